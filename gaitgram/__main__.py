@@ -1,0 +1,3 @@
+from gaitgram.cli import main
+
+main()

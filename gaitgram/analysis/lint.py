@@ -1,0 +1,268 @@
+"""The linter: problems with a grammar's meaning, from its model and facts.
+
+Each check is a small function from (grammar, facts) to diagnostics; ``lint``
+runs them all. Syntax problems were already found by the parser and live in
+``grammar.diagnostics``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from difflib import get_close_matches
+
+from gaitgram.analysis.cfg import RuleKind
+from gaitgram.analysis.facts import INFINITE, GrammarFacts, min_depths, occurrence_bounds
+from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backend_names, get_backend
+from gaitgram.diagnostics import Diagnostic, diagnostic
+from gaitgram.language.model import Grammar, NonTerminal, RuleRef
+
+Check = Callable[[Grammar, GrammarFacts], Iterator[Diagnostic]]
+
+
+def undefined_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
+    defined = grammar.rules_by_name
+    for rule in grammar.rules:
+        for ref in rule.references():
+            if ref.name not in defined:
+                yield diagnostic(
+                    "GG201",
+                    f"<{ref.name}> is not defined",
+                    ref.span,
+                    rule=rule.name,
+                    hint=_suggest(ref.name, defined) or f"define it: <{ref.name}> ::= ...",
+                )
+    for annotation in grammar.annotations:
+        if annotation.name == "start":
+            for argument in annotation.positional():
+                if isinstance(argument.value, RuleRef) and argument.value.name not in defined:
+                    yield diagnostic(
+                        "GG201",
+                        f"the start rule <{argument.value.name}> is not defined",
+                        argument.span,
+                        hint=_suggest(argument.value.name, defined) or "name a rule this file defines",
+                    )
+
+
+def duplicate_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
+    first = grammar.rules_by_name
+    for rule in grammar.rules:
+        original = first[rule.name]
+        if rule is not original:
+            line = grammar.source.location(original.name_span.start).line
+            yield diagnostic(
+                "GG202",
+                f"<{rule.name}> is already defined on line {line}; this definition is ignored",
+                rule.name_span,
+                rule=rule.name,
+                hint="merge the alternatives into one rule with |, or rename one of them",
+            )
+
+
+def unproductive_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
+    cfg = facts.cfg
+    # Count undefined names as finishing, so one missing rule is one diagnostic.
+    undefined = [i for i, kind in enumerate(cfg.kinds) if kind is RuleKind.UNDEFINED]
+    depth, _ = min_depths(cfg, undefined) if undefined else (facts.min_depth, None)
+    for rule in grammar.rules_by_name.values():
+        i = cfg.index[rule.name]
+        if depth[i] is not None or not rule.alternatives:
+            continue
+        if i == cfg.start:
+            yield diagnostic(
+                "GG205",
+                f"the start rule <{rule.name}> can never derive a terminal string, so no genome maps",
+                rule.name_span,
+                rule=rule.name,
+                hint="every alternative uses a rule that cannot finish; add one that can, e.g. a terminal",
+            )
+            continue
+        stuck = sorted(
+            {cfg.names[c] for c in cfg.children(i) if depth[c] is None and cfg.kinds[c] is RuleKind.DEFINED}
+        )
+        why = ", ".join(f"<{s}>" for s in stuck[:4]) + (" ..." if len(stuck) > 4 else "")
+        yield diagnostic(
+            "GG203",
+            f"<{rule.name}> can never derive a terminal string: every alternative needs {why}, "
+            "which cannot finish",
+            rule.name_span,
+            rule=rule.name,
+            hint="add an alternative that ends, such as a terminal or a rule that finishes",
+        )
+
+
+def unreachable_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
+    cfg = facts.cfg
+    if cfg.start is None:
+        return
+    start = cfg.names[cfg.start]
+    for rule in grammar.rules_by_name.values():
+        if not facts.reachable[cfg.index[rule.name]]:
+            yield diagnostic(
+                "GG204",
+                f"<{rule.name}> is unreachable: the start rule <{start}> never uses it",
+                rule.name_span,
+                rule=rule.name,
+                hint=f"delete it, or use it from a rule that <{start}> reaches",
+            )
+
+
+def unit_rule_chains(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
+    defined = grammar.rules_by_name
+    for rule in defined.values():
+        if rule.annotations or len(rule.alternatives) != 1:
+            continue
+        symbols = rule.alternatives[0].symbols
+        if (
+            len(symbols) == 1
+            and isinstance(symbols[0], NonTerminal)
+            and symbols[0].name in defined
+            and symbols[0].name != rule.name  # <a> ::= <a> is unproductive, reported as such
+        ):
+            target = symbols[0].name
+            yield diagnostic(
+                "GG206",
+                f"<{rule.name}> only renames <{target}>",
+                rule.name_span,
+                rule=rule.name,
+                hint=f"use <{target}> directly; in eager mode the extra step reads a codon",
+            )
+
+
+def joints(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
+    seen: dict[str, str] = {}
+    for joint in grammar.joints:
+        if joint.joint in seen:
+            yield diagnostic(
+                "GG504",
+                f"joint {joint.joint} already has a curve, <{seen[joint.joint]}>",
+                joint.span,
+                rule=joint.rule,
+                hint="each joint is driven by exactly one rule",
+            )
+        seen.setdefault(joint.joint, joint.rule)
+
+    backend_annotation = next((a for a in grammar.annotations if a.name == "backend"), None)
+    if grammar.backend is None or backend_annotation is None:
+        if grammar.joints:
+            yield diagnostic(
+                "GG507",
+                "no @backend: joint names and limits are not checked",
+                grammar.joints[0].span,
+                hint=f"declare the backend, e.g. @backend {next(iter(backend_names()), 'NAME')}",
+            )
+        return
+    where = (
+        backend_annotation.positional()[0].span
+        if backend_annotation.positional()
+        else backend_annotation.span
+    )
+    try:
+        backend = get_backend(grammar.backend)
+    except BackendLoadError as error:
+        yield diagnostic(
+            "GG501",
+            f"backend {grammar.backend!r} is installed but fails to load: {error}",
+            where,
+            hint="reinstall it, or report the problem to its authors",
+        )
+        return
+    except BackendNotFound:
+        names = ", ".join(backend_names()) or "none"
+        yield diagnostic(
+            "GG501",
+            f"no backend named {grammar.backend!r} is installed",
+            where,
+            hint=f"installed backends: {names}",
+        )
+        return
+    catalogue = backend.catalogue
+    if catalogue is None:  # the backend takes any joint names
+        return
+    scale = 1.0 if grammar.units == "deg" else 3.141592653589793 / 180.0
+    for joint in grammar.joints:
+        known = catalogue.get(joint.joint)
+        if known is None:
+            suggestion = get_close_matches(joint.joint, catalogue.names, n=1, cutoff=0.5)
+            yield diagnostic(
+                "GG502",
+                f"backend {backend.name} has no joint {joint.joint!r}",
+                joint.span,
+                rule=joint.rule,
+                hint=f"did you mean {suggestion[0]}?"
+                if suggestion
+                else f"its joints: {', '.join(catalogue.names)}",
+            )
+            continue
+        if joint.limits is not None:
+            low, high = known.limits[0] * scale, known.limits[1] * scale
+            if joint.limits[0] < low - 1e-9 or joint.limits[1] > high + 1e-9:
+                yield diagnostic(
+                    "GG506",
+                    f"limits {joint.limits[0]:g}..{joint.limits[1]:g} of {joint.joint} go beyond the "
+                    f"backend's {low:g}..{high:g} ({grammar.units})",
+                    joint.span,
+                    rule=joint.rule,
+                    hint="the backend clips the curve to its own limits",
+                )
+    driven = {j.joint for j in grammar.joints}
+    missing = [name for name in catalogue.names if name not in driven]
+    if missing:
+        which = f"joint {missing[0]} has" if len(missing) == 1 else f"{len(missing)} joints have"
+        yield diagnostic(
+            "GG503",
+            f"{which} no curve, and will hold the neutral angle: {', '.join(missing)}",
+            where,
+            hint=f"add a rule annotated @joint {missing[0]}" + (" (and so on)" if len(missing) > 1 else ""),
+        )
+
+
+def joints_derived_once(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
+    cfg = facts.cfg
+    if not facts.start_productive:
+        return
+    for joint in grammar.joints:
+        target = cfg.index.get(joint.rule)
+        if target is None:
+            continue
+        fewest, most = occurrence_bounds(cfg, target, facts.productive)
+        if fewest == 1 and most == 1:
+            continue
+        if most == 0:
+            problem = "no derivation uses it"
+        elif fewest == 0:
+            problem = "a derivation can skip it"
+        else:
+            problem = "a derivation can use it " + (
+                "any number of times" if most == INFINITE else f"{most:g} times"
+            )
+        yield diagnostic(
+            "GG505",
+            f"<{joint.rule}> drives joint {joint.joint}, but {problem}",
+            joint.span,
+            rule=joint.rule,
+            hint="a joint's curve should be derived exactly once per individual",
+        )
+
+
+CHECKS: tuple[Check, ...] = (
+    undefined_rules,
+    duplicate_rules,
+    unproductive_rules,
+    unreachable_rules,
+    unit_rule_chains,
+    joints,
+    joints_derived_once,
+)
+
+
+def lint(grammar: Grammar, facts: GrammarFacts) -> list[Diagnostic]:
+    found = [d for check in CHECKS for d in check(grammar, facts)]
+    return sorted(found, key=lambda d: (d.span.start, d.code.code))
+
+
+def _suggest(name: str, candidates: dict[str, object]) -> str | None:
+    if len(candidates) > 5000:  # difflib is quadratic-ish; keep it cheap on huge grammars
+        close = [c for c in candidates if c.lower() == name.lower()]
+    else:
+        close = get_close_matches(name, list(candidates), n=1, cutoff=0.6)
+    return f"did you mean <{close[0]}>?" if close else None

@@ -1,0 +1,27 @@
+"""The ``gaitgram`` command line: thin wrappers that read files, call the library and print.
+
+Each command lives in its own module and only parses options, calls one
+library function and renders its result; anything worth testing without a
+terminal lives in the library.
+"""
+
+from __future__ import annotations
+
+import typer
+
+from gaitgram.cli import check, fmt
+
+app = typer.Typer(
+    name="gaitgram",
+    help="Grammars for Grammatical Evolution of animal gaits: check, format, compile, evolve.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+app.command("check")(check.command)
+app.command("fmt")(fmt.command)
+
+
+def main() -> None:
+    app()

@@ -1,0 +1,84 @@
+"""Rendering diagnostics for people (rustc/ruff style) and for programs (JSON)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from rich.cells import cell_len
+from rich.console import Console
+from rich.text import Text
+
+from gaitgram.diagnostics import Diagnostic, Severity
+from gaitgram.language.source import SourceError, SourceText
+
+_STYLES = {Severity.ERROR: "bold red", Severity.WARNING: "bold yellow", Severity.INFO: "bold cyan"}
+
+
+def effective_severity(diagnostic: Diagnostic, *, strict: bool) -> Severity:
+    """``--strict`` makes warnings errors; infos stay infos."""
+    level = diagnostic.level
+    return Severity.ERROR if strict and level is Severity.WARNING else level
+
+
+def human(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False) -> Text:
+    """``file:line:col: error[GG201] message``, the source line with a caret, and the hint."""
+    level = effective_severity(diagnostic, strict=strict)
+    start = source.location(diagnostic.span.start)
+    end = source.location(diagnostic.span.end)
+    out = Text()
+    out.append(f"{source.name}:{start.line}:{start.column}: ", style="bold")
+    out.append(f"{level.value}[{diagnostic.code.code}]", style=_STYLES[level])
+    out.append(f" {diagnostic.message}\n", style="bold")
+
+    line_text = source.line_text(start.line)
+    gutter = str(start.line)
+    pad = " " * len(gutter)
+    shown = line_text.expandtabs(4)
+    prefix = line_text[: start.column - 1].expandtabs(4)
+    last_column = end.column if end.line == start.line else len(line_text) + 1
+    marked = line_text[start.column - 1 : last_column - 1].expandtabs(4)
+    out.append(f"{pad} |\n", style="blue")
+    out.append(f"{gutter} | ", style="blue")
+    out.append(shown + "\n")
+    out.append(f"{pad} | ", style="blue")
+    out.append(" " * cell_len(prefix) + "^" * max(1, cell_len(marked)), style=_STYLES[level])
+    out.append("\n")
+    if diagnostic.hint:
+        out.append(f"{pad} = ", style="blue")
+        out.append("hint: ", style="bold")
+        out.append(diagnostic.hint + "\n")
+    return out
+
+
+def as_json(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False) -> dict[str, Any]:
+    """One diagnostic as JSON; lines and columns are 1-based, ``end_column`` is exclusive."""
+    start = source.location(diagnostic.span.start)
+    end = source.location(diagnostic.span.end)
+    return {
+        "file": source.name,
+        "code": diagnostic.code.code,
+        "name": diagnostic.code.name,
+        "severity": effective_severity(diagnostic, strict=strict).value,
+        "message": diagnostic.message,
+        "rule": diagnostic.rule,
+        "line": start.line,
+        "column": start.column,
+        "end_line": end.line,
+        "end_column": end.column,
+        "hint": diagnostic.hint,
+    }
+
+
+def print_source_error(console: Console, error: SourceError) -> None:
+    out = Text()
+    out.append("error", style="bold red")
+    out.append(f": {error.path}: {error.message}\n", style="bold")
+    if error.hint:
+        out.append("  = ", style="blue")
+        out.append("hint: ", style="bold")
+        out.append(error.hint + "\n")
+    console.print(out, end="", soft_wrap=True, highlight=False)
+
+
+def plural(count: int, word: str) -> str:
+    return f"{count} {word}{'' if count == 1 else 's'}"

@@ -1,0 +1,256 @@
+"""The annotations gaitgram knows, and how their arguments are checked.
+
+Annotations share one syntax (``@name positional key=value ...``), so adding
+one means adding an :class:`AnnotationKind` to :data:`ANNOTATIONS`; the parser
+does not change. The language server reads this table for completion and hover.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+from enum import StrEnum
+
+from gaitgram.diagnostics import Diagnostic, diagnostic
+from gaitgram.language.model import Annotation, Argument, ArgumentValue, Interval, Name, RuleRef
+
+
+class Target(StrEnum):
+    FILE = "file"  # applies to the whole grammar, wherever it is written
+    RULE = "rule"  # applies to the rule written after it
+
+
+class ValueType(StrEnum):
+    NAME = "name"
+    RULE = "rule"
+    INT = "int"
+    NUMBER = "number"
+    INTERVAL = "interval"  # lo..hi, both ends given
+    GENERATIONS = "generations"  # N (from N on), N..M, or N..
+
+
+@dataclass(frozen=True, slots=True)
+class Parameter:
+    name: str
+    type: ValueType
+    help: str
+    positional: bool = False
+    required: bool = False
+    choices: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class AnnotationKind:
+    name: str
+    target: Target
+    summary: str
+    example: str
+    parameters: tuple[Parameter, ...] = ()
+    repeatable: bool = False
+    any_keywords: ValueType | None = None  # accepts key=value pairs of this type
+
+    @property
+    def positional(self) -> tuple[Parameter, ...]:
+        return tuple(p for p in self.parameters if p.positional)
+
+    @property
+    def keywords(self) -> dict[str, Parameter]:
+        return {p.name: p for p in self.parameters if not p.positional}
+
+
+ANNOTATIONS: dict[str, AnnotationKind] = {
+    kind.name: kind
+    for kind in (
+        AnnotationKind(
+            "start",
+            Target.FILE,
+            "The rule derivations start from (default: the first rule).",
+            "@start <prog>",
+            (Parameter("rule", ValueType.RULE, "the start rule", positional=True, required=True),),
+        ),
+        AnnotationKind(
+            "backend",
+            Target.FILE,
+            "The fitness backend whose joints this grammar drives; @joint names are checked against it.",
+            "@backend mujoco-horse",
+            (Parameter("backend", ValueType.NAME, "an installed backend", positional=True, required=True),),
+        ),
+        AnnotationKind(
+            "units",
+            Target.FILE,
+            "The unit of joint angles in phenotypes (default: deg).",
+            "@units deg",
+            (
+                Parameter(
+                    "units",
+                    ValueType.NAME,
+                    "deg or rad",
+                    positional=True,
+                    required=True,
+                    choices=("deg", "rad"),
+                ),
+            ),
+        ),
+        AnnotationKind(
+            "define",
+            Target.FILE,
+            "Named sizes for GE_RANGE:name, as PonyGE2 takes them from its parameters.",
+            "@define dataset_n_vars=5",
+            repeatable=True,
+            any_keywords=ValueType.INT,
+        ),
+        AnnotationKind(
+            "joint",
+            Target.RULE,
+            "The next rule derives the angle curve of this backend joint.",
+            "@joint elbow_fore limits=-35..60 free=11",
+            (
+                Parameter("joint", ValueType.NAME, "a joint of the backend", positional=True, required=True),
+                Parameter("limits", ValueType.INTERVAL, "the angle range the curve should stay in, lo..hi"),
+                Parameter(
+                    "free",
+                    ValueType.GENERATIONS,
+                    "generations in which the joint may move: N (from N on), N..M or N..; "
+                    "before that it holds its neutral angle",
+                ),
+            ),
+        ),
+    )
+}
+
+
+@dataclass(frozen=True, slots=True)
+class CheckedAnnotation:
+    """An annotation whose arguments were checked: ``values`` maps parameter names to values."""
+
+    annotation: Annotation
+    kind: AnnotationKind | None
+    values: dict[str, ArgumentValue]
+
+
+def check_annotation(annotation: Annotation, problems: list[Diagnostic]) -> CheckedAnnotation:
+    """Check arguments against the kind's parameters, appending problems."""
+    kind = ANNOTATIONS.get(annotation.name)
+    if kind is None:
+        known = ", ".join(f"@{n}" for n in ANNOTATIONS)
+        problems.append(
+            diagnostic(
+                "GG401",
+                f"unknown annotation @{annotation.name}",
+                annotation.name_span,
+                hint=_did_you_mean(annotation.name, ANNOTATIONS) or f"known annotations: {known}",
+            )
+        )
+        return CheckedAnnotation(annotation, None, {})
+
+    values: dict[str, ArgumentValue] = {}
+    positional = list(kind.positional)
+    usage = f"usage: {kind.example}"
+    for argument in annotation.arguments:
+        if argument.key is None:
+            if not positional:
+                problems.append(_bad(argument, f"@{kind.name} takes no more positional arguments", usage))
+                continue
+            parameter = positional.pop(0)
+        else:
+            parameter = kind.keywords.get(argument.key)
+            if parameter is None and kind.any_keywords is not None:
+                parameter = Parameter(argument.key, kind.any_keywords, "")
+            if parameter is None:
+                names = ", ".join(kind.keywords) or "none"
+                problems.append(
+                    _bad(
+                        argument, f"@{kind.name} has no argument {argument.key!r} (it takes: {names})", usage
+                    )
+                )
+                continue
+            if parameter.name in values:
+                problems.append(_bad(argument, f"{parameter.name!r} is given twice", usage))
+                continue
+        value = _convert(argument, parameter, problems, usage)
+        if value is not None:
+            values[parameter.name] = value
+
+    for parameter in positional:
+        if parameter.required:
+            problems.append(
+                diagnostic(
+                    "GG402",
+                    f"@{kind.name} needs {parameter.help}",
+                    annotation.span,
+                    hint=usage,
+                )
+            )
+    return CheckedAnnotation(annotation, kind, values)
+
+
+def _convert(
+    argument: Argument, parameter: Parameter, problems: list[Diagnostic], usage: str
+) -> ArgumentValue | None:
+    value = argument.value
+    wanted = parameter.type
+    label = f"{parameter.name!r}" if argument.key else parameter.help
+
+    def fail(expected: str) -> None:
+        shown = "nothing" if value is None else repr(argument.raw.split("=", 1)[-1])
+        problems.append(_bad(argument, f"{label} must be {expected}, not {shown}", usage))
+
+    if wanted is ValueType.NAME:
+        if not isinstance(value, Name):
+            fail("a name")
+            return None
+        if parameter.choices and value.text not in parameter.choices:
+            fail(" or ".join(parameter.choices))
+            return None
+        return value
+    if wanted is ValueType.RULE:
+        if isinstance(value, RuleRef):
+            return value
+        fail("a rule such as <prog>")
+        return None
+    if wanted is ValueType.INT:
+        if isinstance(value, int) and not isinstance(value, bool) and value >= 0:
+            return value
+        fail("a whole number ≥ 0")
+        return None
+    if wanted is ValueType.NUMBER:
+        if isinstance(value, int | float):
+            return value
+        fail("a number")
+        return None
+    if wanted is ValueType.INTERVAL:
+        if isinstance(value, Interval) and value.low is not None and value.high is not None:
+            if value.low > value.high:
+                problems.append(
+                    _bad(
+                        argument,
+                        f"{label} is empty: {value.low:g} is above {value.high:g}",
+                        "write the lower limit first",
+                    )
+                )
+                return None
+            return value
+        fail("an interval lo..hi")
+        return None
+    if wanted is ValueType.GENERATIONS:
+        if isinstance(value, int) and value >= 0:
+            return Interval(value, None)
+        if isinstance(value, Interval):
+            low = 0 if value.low is None else value.low
+            whole = all(x is None or (float(x).is_integer() and x >= 0) for x in (value.low, value.high))
+            if whole and (value.high is None or low <= value.high):
+                return Interval(int(low), None if value.high is None else int(value.high))
+        fail("a generation N, or generations N..M or N..")
+        return None
+    raise AssertionError(wanted)  # pragma: no cover
+
+
+def _bad(argument: Argument, message: str, hint: str | None) -> Diagnostic:
+    return diagnostic("GG402", message, argument.span, hint=hint)
+
+
+def _did_you_mean(word: str, candidates: Iterable[str]) -> str | None:
+    from difflib import get_close_matches
+
+    match = get_close_matches(word, list(candidates), n=1, cutoff=0.6)
+    return f"did you mean @{match[0]}?" if match else None

@@ -1,0 +1,558 @@
+"""From the lark tree to the grammar model, reading right-hand sides as PonyGE2 does.
+
+PonyGE2's reading rules (``vectors/ponyge2/README.md``), which every PonyGE2
+grammar must keep under gaitgram:
+
+* an alternative is trimmed at both ends; whitespace inside it is terminal text;
+* a line break inside an alternative is terminal text too, and the spaces right
+  after it are dropped (as are spaces alone before it);
+* a comment ends an alternative, so text on the lines after a comment starts a
+  new alternative even without ``|`` (gaitgram warns about it: GG107);
+* empty alternatives are dropped; ``''`` is the way to write an empty string;
+* escapes are decoded in quoted and unquoted text alike;
+* adjacent pieces of terminal text form one terminal.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+from lark import Token, Tree
+
+from gaitgram.diagnostics import Diagnostic, diagnostic
+from gaitgram.language.annotations import CheckedAnnotation, Target, check_annotation
+from gaitgram.language.escapes import unescape
+from gaitgram.language.lexer import Piece
+from gaitgram.language.model import (
+    Alternative,
+    Annotation,
+    Argument,
+    ArgumentValue,
+    Grammar,
+    Interval,
+    JointDecl,
+    Name,
+    NonTerminal,
+    RangeKind,
+    RangeSpec,
+    RangeSymbol,
+    Rule,
+    RuleRef,
+    Symbol,
+    Terminal,
+)
+from gaitgram.language.parser import scanner
+from gaitgram.language.ranges import MAX_RANGE_VALUES, parse_range
+from gaitgram.language.source import SourceText, Span
+
+_BLANK = frozenset({"WS", "NEWLINE", "COMMENT"})
+_TEXTUAL = frozenset({"TEXT", "WS"})
+
+
+def build_grammar(tree: Tree, source: SourceText, defines: Mapping[str, int] | None = None) -> Grammar:
+    return _Builder(source, dict(defines or {})).build(tree)
+
+
+@dataclass
+class _Builder:
+    source: SourceText
+    external_defines: dict[str, int]
+    problems: list[Diagnostic] = field(default_factory=list)
+    defines: dict[str, int] = field(default_factory=dict)
+
+    # ---- document ------------------------------------------------------------
+
+    def build(self, tree: Tree) -> Grammar:
+        items = tree.children
+        annotations = [
+            self._annotation(item) for item in items if isinstance(item, Tree) and item.data == "annotation"
+        ]
+        checked = {id(a): check_annotation(a, self.problems) for a in annotations}
+        file_level = [c for c in checked.values() if c.kind is not None and c.kind.target is Target.FILE]
+        self._collect_defines(file_level)
+
+        rules: list[Rule] = []
+        pending: list[CheckedAnnotation] = []
+        annotation_iter = iter(annotations)
+        for item in items:
+            if isinstance(item, Token):
+                self._stray(self._pieces(item))
+            elif item.data == "rule":
+                rule = self._rule(item, [c.annotation for c in pending])
+                rules.append(rule)
+                pending = []
+            else:
+                annotation = next(annotation_iter)
+                self._stray_after_annotation(item)
+                c = checked[id(annotation)]
+                if c.kind is None or c.kind.target is Target.RULE:
+                    pending.append(c)
+        for c in pending:
+            if c.kind is not None:
+                self.problems.append(
+                    diagnostic(
+                        "GG403",
+                        f"@{c.annotation.name} annotates the rule after it, but no rule follows",
+                        c.annotation.span,
+                        hint="move it above the rule it is about, or delete it",
+                    )
+                )
+
+        start = self._single(file_level, "start")
+        backend = self._single(file_level, "backend")
+        units = self._single(file_level, "units")
+        joints = tuple(self._joints(rules, checked))
+        if not rules and not self.problems:
+            self.problems.append(
+                diagnostic(
+                    "GG207",
+                    "no rules: a grammar needs at least one <name> ::= ... rule",
+                    Span(0, 0),
+                    hint="for example: <prog> ::= x | y",
+                )
+            )
+        return Grammar(
+            source=self.source,
+            rules=tuple(rules),
+            annotations=tuple(annotations),
+            start=start.name if isinstance(start, RuleRef) else (rules[0].name if rules else None),
+            backend=backend.text if isinstance(backend, Name) else None,
+            units=units.text if isinstance(units, Name) else "deg",
+            joints=joints,
+            defines={**self.defines, **self.external_defines},
+            diagnostics=tuple(sorted(self.problems, key=lambda d: d.span)),
+        )
+
+    def _single(self, checked: list[CheckedAnnotation], name: str) -> ArgumentValue | None:
+        found = [c for c in checked if c.annotation.name == name]
+        for extra in found[1:]:
+            self.problems.append(
+                diagnostic(
+                    "GG404",
+                    f"@{name} is given more than once; the first one counts",
+                    extra.annotation.span,
+                    hint="delete the extra one",
+                )
+            )
+        if not found:
+            return None
+        values = found[0].values
+        return next(iter(values.values()), None)
+
+    def _collect_defines(self, checked: list[CheckedAnnotation]) -> None:
+        for c in checked:
+            if c.annotation.name == "define":
+                for key, value in c.values.items():
+                    if isinstance(value, int):
+                        self.defines[key] = value
+
+    def _joints(self, rules: list[Rule], checked: dict[int, CheckedAnnotation]) -> list[JointDecl]:
+        joints = []
+        for rule in rules:
+            joint_annotations = [a for a in rule.annotations if a.name == "joint"]
+            for extra in joint_annotations[1:]:
+                self.problems.append(
+                    diagnostic(
+                        "GG404",
+                        f"<{rule.name}> has more than one @joint",
+                        extra.span,
+                        rule=rule.name,
+                        hint="a rule derives one joint's curve; give each joint its own rule",
+                    )
+                )
+            if not joint_annotations:
+                continue
+            annotation = joint_annotations[0]
+            values = checked[id(annotation)].values
+            joint = values.get("joint")
+            if not isinstance(joint, Name):
+                continue
+            limits = values.get("limits")
+            free = values.get("free")
+            joints.append(
+                JointDecl(
+                    joint=joint.text,
+                    rule=rule.name,
+                    limits=(limits.low, limits.high) if isinstance(limits, Interval) else None,  # type: ignore[arg-type]
+                    free=(int(free.low or 0), None if free.high is None else int(free.high))
+                    if isinstance(free, Interval)
+                    else None,
+                    span=annotation.span,
+                )
+            )
+        return joints
+
+    def _pieces(self, token: Token) -> list[Piece]:
+        return scanner().pieces(self.source.text, token.start_pos, token.end_pos)
+
+    # ---- stray text ---------------------------------------------------------------
+
+    def _stray(self, pieces: list[Piece]) -> None:
+        """Report runs of non-blank pieces outside any rule, one diagnostic per line."""
+        text = self.source.text
+        run: list[Piece] = []
+        for piece in (*pieces, ("NEWLINE", -1, -1)):
+            if piece[0] == "NEWLINE" or piece[0] == "COMMENT":
+                if run:
+                    span = Span(run[0][1], run[-1][2])
+                    shown = text[span.start : span.end].strip()
+                    self.problems.append(
+                        diagnostic(
+                            "GG101",
+                            f"text outside any rule: {_shorten(shown)!r}",
+                            span,
+                            hint="rules are written <name> ::= alternatives; comments start with #",
+                        )
+                    )
+                    run = []
+            elif piece[0] != "WS":
+                run.append(piece)
+
+    def _stray_after_annotation(self, tree: Tree) -> None:
+        for child in tree.children:
+            if isinstance(child, Token) and child.type == "PIECES":
+                self._stray(self._pieces(child))
+
+    # ---- annotations ----------------------------------------------------------------
+
+    def _annotation(self, tree: Tree) -> Annotation:
+        head: Token = tree.children[0]
+        at = head.start_pos + head.index("@")
+        name_span = Span(at, head.end_pos)
+        arguments: list[Argument] = []
+        end = head.end_pos
+        for child in tree.children[1:]:
+            if isinstance(child, Tree):
+                argument = self._argument(child)
+                if argument is not None:
+                    arguments.append(argument)
+                end = _tree_end(child)
+            elif child.type not in ("WS", "NEWLINE", "COMMENT", "PIECES"):
+                end = child.end_pos
+        return Annotation(head[head.index("@") + 1 :], tuple(arguments), Span(at, end), name_span)
+
+    def _argument(self, tree: Tree) -> Argument | None:
+        span = Span(_tree_start(tree), _tree_end(tree))
+        raw = self.source.text[span.start : span.end]
+        if tree.data == "bad_argument":
+            self.problems.append(
+                diagnostic(
+                    "GG402",
+                    f"cannot read annotation argument {raw!r}",
+                    span,
+                    hint="arguments are names, numbers, <rules>, 'strings', lo..hi intervals, or key=value",
+                )
+            )
+            return None
+        if tree.data == "keyword_argument":
+            key = str(tree.children[0])
+            value_tree = tree.children[2] if len(tree.children) > 2 else None
+            value = self._value(value_tree) if value_tree is not None else None
+            return Argument(key, value, span, raw)
+        return Argument(None, self._value(tree), span, raw)
+
+    def _value(self, tree: Tree) -> ArgumentValue:
+        if tree.data == "span_value":
+            low = high = None
+            seen_dots = False
+            for token in tree.children:
+                if token.type == "DOTS":
+                    seen_dots = True
+                elif seen_dots:
+                    high = _number(token)
+                else:
+                    low = _number(token)
+            return Interval(low, high)
+        token: Token = tree.children[0]
+        if tree.data == "name_value":
+            return Name(str(token))
+        if tree.data == "number_value":
+            return _number(token)
+        if tree.data == "rule_value":
+            return RuleRef(token[1:-1])
+        text, errors = unescape(token[1:-1])
+        for error in errors:
+            self._escape_problem(token.start_pos + 1, error.start, error.end, error.message)
+        return text
+
+    # ---- rules ---------------------------------------------------------------------------
+
+    def _rule(self, tree: Tree, annotations: list[Annotation]) -> Rule:
+        head: Token = tree.children[0]
+        close = head.index(">")
+        name = head[1:close]
+        name_span = Span(head.start_pos, head.start_pos + close + 1)
+        pieces = self._pieces(tree.children[1]) if len(tree.children) > 1 else []
+        alternatives = self._alternatives(name, pieces)
+        end = _content_end(pieces, head.end_pos)
+        rule_span = Span(head.start_pos, end)
+        if not alternatives:
+            self.problems.append(
+                diagnostic(
+                    "GG108",
+                    f"<{name}> has no alternatives",
+                    name_span,
+                    rule=name,
+                    hint=f"write <{name}> ::= a | b, or '' for the empty string",
+                )
+            )
+        return Rule(name, tuple(alternatives), rule_span, name_span, tuple(annotations))
+
+    def _alternatives(self, rule: str, pieces: list[Piece]) -> list[Alternative]:
+        """Split a right-hand side at ``|`` and comments, then read each part."""
+        alternatives: list[Alternative] = []
+        groups: list[list[list[Piece]]] = [[[]]]  # pipe groups -> comment segments -> pieces
+        segment = groups[0][0]
+        pipes: list[Piece] = []
+        for piece in pieces:
+            kind = piece[0]
+            if kind == "PIPE":
+                segment = []
+                groups.append([segment])
+                pipes.append(piece)
+            elif kind == "COMMENT":
+                segment = []
+                groups[-1].append(segment)
+            else:
+                segment.append(piece)
+
+        text = self.source.text
+        for index, group in enumerate(groups):
+            nonblank = 0
+            for segment in group:
+                trimmed = _trim(segment, text)
+                if not trimmed:
+                    continue
+                nonblank += 1
+                alternative = self._alternative(rule, trimmed)
+                if nonblank > 1:
+                    self.problems.append(
+                        diagnostic(
+                            "GG107",
+                            "this line starts a new alternative, because a comment ended the one before it",
+                            alternative.span,
+                            rule=rule,
+                            hint="PonyGE2 reads it that way too; put | before it to say so",
+                        )
+                    )
+                alternatives.append(alternative)
+            if nonblank == 0 and pipes:
+                where = pipes[index] if index < len(pipes) else pipes[index - 1]
+                self.problems.append(
+                    diagnostic(
+                        "GG106",
+                        "empty alternative: PonyGE2 drops it, and so does gaitgram",
+                        Span(where[1], where[2]),
+                        rule=rule,
+                        hint="delete the extra |, or write '' for an empty string",
+                    )
+                )
+        return alternatives
+
+    def _alternative(self, rule: str, pieces: list[Piece]) -> Alternative:
+        text = self.source.text
+        symbols: list[Symbol] = []
+        parts: list[str] = []  # terminal text waiting to be one Terminal
+        parts_start = parts_end = 0
+        after_newline = False
+        i, count = 0, len(pieces)
+        while i < count:
+            kind, start, end = pieces[i]
+            i += 1
+            if kind == "NONTERMINAL":
+                if parts:
+                    symbols.append(Terminal("".join(parts), Span(parts_start, parts_end)))
+                    parts = []
+                symbols.append(NonTerminal(text[start + 1 : end - 1], Span(start, end)))
+                after_newline = False
+                continue
+            if kind in _TEXTUAL:
+                # A run of text and spaces is one piece of PonyGE2 text.
+                while i < count and pieces[i][0] in _TEXTUAL:
+                    end = pieces[i][2]
+                    i += 1
+                value = text[start:end]
+                if after_newline:
+                    stripped = value.lstrip(" ")
+                    start += len(value) - len(stripped)
+                    value = stripped
+                    after_newline = False
+                if not value or (i < count and pieces[i][0] == "NEWLINE" and not value.strip(" ")):
+                    continue  # spaces next to a line break are not text
+                if "\\" in value:
+                    value = self._decode(value, start)
+            elif kind == "STRING":
+                value = text[start + 1 : end - 1]
+                if "\\" in value:
+                    value = self._decode(value, start + 1)
+                after_newline = False
+            elif kind == "NEWLINE":
+                value = "\n"
+                after_newline = True
+            else:
+                after_newline = False
+                value = self._special(rule, kind, start, end, whole=count == 1)
+                if not isinstance(value, str):
+                    if parts:
+                        symbols.append(Terminal("".join(parts), Span(parts_start, parts_end)))
+                        parts = []
+                    symbols.append(RangeSymbol(value, Span(start, end)))
+                    continue
+            if not parts:
+                parts_start = start
+            parts.append(value)
+            parts_end = end
+        if parts:
+            symbols.append(Terminal("".join(parts), Span(parts_start, parts_end)))
+        return Alternative(tuple(symbols), Span(pieces[0][1], pieces[-1][2]))
+
+    def _special(self, rule: str, kind: str, start: int, end: int, *, whole: bool) -> str | RangeSpec:
+        """The rarer pieces: ranges, a lone ``<``, unterminated strings. Text if unusable."""
+        raw = self.source.text[start:end]
+        if kind == "RANGE":
+            return self._range(rule, raw, start) or raw
+        if kind == "GE_RANGE":
+            return self._ge_range(rule, raw, start, whole=whole) or raw
+        if kind == "BAD_STRING":
+            self.problems.append(
+                diagnostic(
+                    "GG102",
+                    "unterminated string: no closing quote on this line",
+                    Span(start, end),
+                    rule=rule,
+                    hint=f"add the closing {raw[0]} (a string cannot span lines)",
+                )
+            )
+            return self._decode(raw[1:], start + 1)
+        assert kind == "LT", kind
+        return raw
+
+    def _decode(self, raw: str, start: int) -> str:
+        value, errors = unescape(raw)
+        for error in errors:
+            self._escape_problem(start, error.start, error.end, error.message)
+        return value
+
+    def _escape_problem(self, base: int, start: int, end: int, message: str) -> None:
+        self.problems.append(
+            diagnostic(
+                "GG103",
+                message,
+                Span(base + start, base + end),
+                hint="write \\\\ for a backslash; escapes are \\n \\t \\xHH \\uHHHH \\N{NAME}",
+            )
+        )
+
+    def _range(self, rule: str, raw: str, start: int) -> RangeSpec | None:
+        spec, problems = parse_range(raw)
+        for problem in problems:
+            length = len(raw) - problem.offset if problem.length is None else problem.length
+            span = Span(start + problem.offset, start + problem.offset + max(length, 1))
+            if problem.offset == 0 and problem.length is None:
+                span = Span(start, start + len(raw))
+            self.problems.append(
+                diagnostic(problem.code, problem.message, span, rule=rule, hint=problem.hint)
+            )
+        return spec
+
+    def _ge_range(self, rule: str, raw: str, start: int, *, whole: bool) -> RangeSpec | None:
+        span = Span(start, start + len(raw))
+        argument = raw.split(":", 1)[1]
+        if not whole:
+            self.problems.append(
+                diagnostic(
+                    "GG105",
+                    f"{raw} must be a whole alternative",
+                    span,
+                    rule=rule,
+                    hint="put it alone between | separators, or use a typed range such as int[0..9]",
+                )
+            )
+            return None
+        if argument.isdigit():
+            size = int(argument)
+        elif argument.isidentifier():
+            defined = {**self.defines, **self.external_defines}
+            if argument not in defined:
+                self.problems.append(
+                    diagnostic(
+                        "GG405",
+                        f"GE_RANGE:{argument} needs a value for {argument!r}",
+                        span,
+                        rule=rule,
+                        hint=f"add @define {argument}=N at the top, or pass --define {argument}=N",
+                    )
+                )
+                return None
+            size = defined[argument]
+        else:
+            self.problems.append(
+                diagnostic(
+                    "GG105",
+                    f"{raw}: the size must be a number or a name",
+                    span,
+                    rule=rule,
+                    hint="for example GE_RANGE:10",
+                )
+            )
+            return None
+        if size < 1 or size > MAX_RANGE_VALUES:
+            self.problems.append(
+                diagnostic(
+                    "GG105",
+                    f"{raw} has size {size}; it must be between 1 and {MAX_RANGE_VALUES:,}",
+                    span,
+                    rule=rule,
+                )
+            )
+            return None
+        return RangeSpec(RangeKind.INT, raw, tuple(str(i) for i in range(size)))
+
+
+# ---- helpers ---------------------------------------------------------------------------
+
+
+def _trim(segment: list[Piece], text: str) -> list[Piece]:
+    """Drop whitespace at both ends of an alternative, as PonyGE2's ``strip()`` does."""
+    first, last = 0, len(segment) - 1
+    while first <= last and segment[first][0] in _BLANK:
+        first += 1
+    while last >= first and segment[last][0] in _BLANK:
+        last -= 1
+    if first > last:
+        return []
+    trimmed = segment[first : last + 1]
+    kind, start, end = trimmed[-1]
+    if kind == "TEXT" and text[end - 1].isspace():
+        trimmed[-1] = (kind, start, start + len(text[start:end].rstrip()))
+    return trimmed
+
+
+def _content_end(pieces: list[Piece], default: int) -> int:
+    for kind, _, end in reversed(pieces):
+        if kind not in _BLANK:
+            return end
+    return default
+
+
+def _number(token: Token) -> int | float:
+    text = str(token)
+    try:
+        return int(text)
+    except ValueError:
+        return float(text)
+
+
+def _tree_start(tree: Tree) -> int:
+    first = tree.children[0]
+    return first.start_pos if isinstance(first, Token) else _tree_start(first)
+
+
+def _tree_end(tree: Tree) -> int:
+    last = tree.children[-1]
+    return last.end_pos if isinstance(last, Token) else _tree_end(last)
+
+
+def _shorten(text: str, limit: int = 40) -> str:
+    return text if len(text) <= limit else text[: limit - 1] + "…"

@@ -1,0 +1,71 @@
+"""Backslash escapes in terminal text.
+
+PonyGE2 decodes every piece of terminal text, quoted or not, with Python's
+``unicode-escape`` codec. That codec reads its input as Latin-1, so it garbles
+any non-ASCII character; here each escape is decoded on its own and the rest
+of the text is left alone, which gives the same result on ASCII and the right
+one on everything else.
+"""
+
+from __future__ import annotations
+
+import codecs
+import re
+from dataclasses import dataclass
+
+_ESCAPE = re.compile(
+    r"""\\(?:
+        N\{[^}\n]*\}? | U[0-9A-Fa-f]{0,8} | u[0-9A-Fa-f]{0,4} | x[0-9A-Fa-f]{0,2}
+      | [0-7]{1,3} | \n | . | $
+    )""",
+    re.VERBOSE | re.DOTALL,
+)
+
+
+_SIMPLE = {
+    "\\": "\\",
+    "'": "'",
+    '"': '"',
+    "a": "\a",
+    "b": "\b",
+    "f": "\f",
+    "n": "\n",
+    "r": "\r",
+    "t": "\t",
+    "v": "\v",
+    "\n": "",
+}
+
+
+@dataclass(frozen=True, slots=True)
+class EscapeError:
+    """An escape that does not decode; offsets are relative to the text given."""
+
+    start: int
+    end: int
+    message: str
+
+
+def unescape(text: str) -> tuple[str, list[EscapeError]]:
+    """Decode escapes as Python's ``unicode-escape`` does, reporting the bad ones.
+
+    Unknown escapes such as ``\\w`` stay as they are (PCRE grammars rely on it).
+    A bad escape is kept verbatim in the result and reported.
+    """
+    if "\\" not in text:
+        return text, []
+    errors: list[EscapeError] = []
+
+    def decode(match: re.Match[str]) -> str:
+        escape = match.group()
+        if len(escape) == 2 and escape[1] not in "01234567":
+            # One-character escapes: known ones decode, unknown ones (\w, \( ...) stay.
+            return _SIMPLE.get(escape[1], escape)
+        try:
+            return codecs.decode(escape, "unicode_escape")
+        except UnicodeDecodeError as exc:
+            reason = "a backslash at the end of the text" if escape == "\\" else exc.reason
+            errors.append(EscapeError(match.start(), match.end(), f"invalid escape {escape!r}: {reason}"))
+            return escape
+
+    return _ESCAPE.sub(decode, text), errors

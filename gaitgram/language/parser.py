@@ -1,0 +1,43 @@
+"""The lark parsers generated from ``gaitgram.lark``."""
+
+from __future__ import annotations
+
+from functools import cache
+from importlib.resources import files
+
+from lark import Lark, Tree
+
+from gaitgram.language.lexer import GgLexer, KeepScannerTerminals, Scanner
+
+
+@cache
+def grammar_text() -> str:
+    return files("gaitgram.language").joinpath("gaitgram.lark").read_text(encoding="utf-8")
+
+
+@cache
+def document_parser() -> Lark:
+    return Lark(
+        grammar_text(),
+        start="start",
+        parser="lalr",
+        lexer=GgLexer,
+        postlex=KeepScannerTerminals(),
+        maybe_placeholders=False,
+    )
+
+
+@cache
+def scanner() -> Scanner:
+    """The scanner the document parser uses, for splitting ``PIECES`` runs."""
+    return Scanner(document_parser().terminals)
+
+
+@cache
+def range_parser() -> Lark:
+    return Lark(grammar_text(), start="range_spec", parser="lalr", lexer="contextual")
+
+
+def parse_tree(text: str) -> Tree:
+    """Parse a whole document. The grammar is total, so this does not fail on bad input."""
+    return document_parser().parse(text)

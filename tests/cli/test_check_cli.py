@@ -1,0 +1,144 @@
+"""``gaitgram check`` and ``gaitgram fmt`` from the outside: output, JSON and exit codes."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from conftest import GRAMMARS
+from gaitgram.cli import app
+
+runner = CliRunner()
+
+BROKEN = "<a> ::= <b> | <nope>\n<b> ::= int[5..1]\n<c> ::= x\n"
+
+
+@pytest.fixture
+def broken(tmp_path: Path) -> Path:
+    path = tmp_path / "broken.gg"
+    path.write_text(BROKEN)
+    return path
+
+
+def test_human_output_has_location_code_source_caret_and_hint(broken: Path) -> None:
+    result = runner.invoke(app, ["check", str(broken)])
+    assert result.exit_code == 1
+    out = result.stdout
+    assert f"{broken}:1:15: error[GG201] <nope> is not defined" in out
+    assert "1 | <a> ::= <b> | <nope>\n  |               ^^^^^^\n" in out
+    assert f"{broken}:2:9: error[GG301]" in out
+    assert f"{broken}:3:1: warning[GG204]" in out
+    assert "= hint:" in out
+    assert "2 errors, 1 warning in 1 file" in result.stderr
+
+
+def test_json_output(broken: Path) -> None:
+    result = runner.invoke(app, ["check", "--format", "json", str(broken)])
+    assert result.exit_code == 1
+    records = json.loads(result.stdout)
+    undefined = next(r for r in records if r["code"] == "GG201")
+    assert undefined == {
+        "file": str(broken),
+        "code": "GG201",
+        "name": "undefined-rule",
+        "severity": "error",
+        "message": "<nope> is not defined",
+        "rule": "a",  # the rule the problem is in
+        "line": 1,
+        "column": 15,
+        "end_line": 1,
+        "end_column": 21,
+        "hint": undefined["hint"],
+    }
+    assert {r["severity"] for r in records} == {"error", "warning"}
+
+
+def test_strict_turns_warnings_into_errors(tmp_path: Path) -> None:
+    path = tmp_path / "w.gg"
+    path.write_text("<a> ::= x\n<b> ::= y\n")
+    assert runner.invoke(app, ["check", str(path)]).exit_code == 0
+    strict = runner.invoke(app, ["check", "--strict", "-f", "json", str(path)])
+    assert strict.exit_code == 1
+    assert [r["severity"] for r in json.loads(strict.stdout)] == ["error"]
+
+
+def test_exit_code_2_for_unreadable_files_and_bad_usage(tmp_path: Path, broken: Path) -> None:
+    missing = runner.invoke(app, ["check", str(tmp_path / "missing.gg"), str(broken)])
+    assert missing.exit_code == 2
+    assert "no such file" in missing.stderr
+    assert "GG201" in missing.stdout  # the readable file is still checked
+    assert runner.invoke(app, ["check"]).exit_code == 2
+    assert runner.invoke(app, ["check", "--format", "xml", str(broken)]).exit_code == 2
+    assert runner.invoke(app, ["check", "--define", "n", str(broken)]).exit_code == 2
+
+
+def test_defines(tmp_path: Path) -> None:
+    path = tmp_path / "d.gg"
+    path.write_text("<a> ::= GE_RANGE:n_vars\n")
+    assert runner.invoke(app, ["check", str(path)]).exit_code == 1
+    assert runner.invoke(app, ["check", "-D", "n_vars=3", str(path)]).exit_code == 0
+
+
+def test_bundled_grammars_pass_strict() -> None:
+    paths = sorted(str(p) for p in GRAMMARS.glob("*.gg"))
+    assert paths
+    result = runner.invoke(app, ["check", "--strict", *paths])
+    assert result.exit_code == 0, result.stdout
+
+
+def test_fmt_in_place_check_and_diff(tmp_path: Path) -> None:
+    path = tmp_path / "f.gg"
+    path.write_text("<a>::=x|y\n<b> ::= z\n")
+    assert runner.invoke(app, ["fmt", "--check", str(path)]).exit_code == 1
+    diff = runner.invoke(app, ["fmt", "--diff", str(path)])
+    assert diff.exit_code == 1
+    assert "-<a>::=x|y\n+<a> ::= x | y\n" in diff.stdout
+    assert path.read_text() == "<a>::=x|y\n<b> ::= z\n"  # --check and --diff write nothing
+    assert runner.invoke(app, ["fmt", str(path)]).exit_code == 0
+    assert path.read_text() == "<a> ::= x | y\n<b> ::= z\n"
+    assert runner.invoke(app, ["fmt", "--check", str(path)]).exit_code == 0
+    assert [p.name for p in tmp_path.iterdir()] == ["f.gg"]  # no temporary file left behind
+
+
+def test_fmt_leaves_files_with_syntax_errors_alone(tmp_path: Path) -> None:
+    path = tmp_path / "bad.gg"
+    text = "<a>::=x|'oops\n"
+    path.write_text(text)
+    result = runner.invoke(app, ["fmt", str(path)])
+    assert result.exit_code == 1
+    assert "GG102" in result.stderr
+    assert path.read_text() == text
+
+
+@pytest.mark.parametrize("args", [["check"], ["fmt", "--check"]])
+def test_garbage_files_never_give_a_traceback(tmp_path: Path, args: list[str]) -> None:
+    for i, data in enumerate([b"\xff\xfe", b"\x00", b"<a> ::= <", b"@@@@", b"::=::=", bytes(range(256))]):
+        path = tmp_path / f"g{i}.gg"
+        path.write_bytes(data)
+        result = runner.invoke(app, [*args, str(path)])
+        assert result.exit_code in (0, 1, 2)
+        assert result.exception is None or isinstance(result.exception, SystemExit)
+
+
+def test_console_script_runs_as_a_module(broken: Path) -> None:
+    env = {**os.environ, "NO_COLOR": "1"}
+    run = subprocess.run(
+        [sys.executable, "-m", "gaitgram", "check", str(broken)], capture_output=True, text=True, env=env
+    )
+    assert run.returncode == 1
+    assert "error[GG201]" in run.stdout
+    assert "Traceback" not in run.stderr
+
+
+def test_every_diagnostic_code_is_documented() -> None:
+    from gaitgram.diagnostics import CODES
+
+    documented = (GRAMMARS.parent / "docs" / "diagnostics.md").read_text()
+    for code in CODES.values():
+        assert f"| {code.code} | `{code.name}` |" in documented, code
