@@ -87,6 +87,7 @@ def reference_recursive(raw: RawGrammar) -> list[bool]:
     return [i in reaches(i) for i in range(len(raw))]
 
 
+@settings(max_examples=2000)
 @given(raw_grammars())
 def test_facts_agree_with_references(raw: RawGrammar) -> None:
     grammar = parse(to_text(raw))
@@ -186,9 +187,29 @@ def test_agrees_with_bison(raw: RawGrammar, tmp_path_factory: pytest.TempPathFac
 
 
 @pytest.mark.skipif(BISON is None, reason="needs Debian's bison; .ci/run installs it")
-def test_bison_agrees_on_a_hand_written_grammar(tmp_path: Path) -> None:
-    raw: RawGrammar = [[[1], [None]], [[1, None]], [[2]], [[0, None]]]  # r1 loops, r2 loops, r3 unreachable
-    assert bison_verdict(raw, tmp_path) == ours(raw) == (False, {"r1", "r2", "r3"})
+@pytest.mark.parametrize(
+    ("raw", "expected"),
+    [
+        # r1 never finishes, r2 loops on itself, r3 is unreachable.
+        ([[[1], [None]], [[1, None]], [[2]], [[0, None]]], (False, {"r1", "r2", "r3"})),
+        # Expression grammar: all useful.
+        ([[[0, None, 1], [1]], [[None], [None, 0, None]]], (False, set())),
+        # r2 is reachable only through r1, which cannot finish: Bison calls r2 useless too.
+        ([[[None], [1]], [[1, 2]], [[None]]], (False, {"r1", "r2"})),
+        # The start rule cannot finish.
+        ([[[0, 1]], [[None]]], (True, set())),
+        # A long chain that finishes at the end.
+        ([[[1]], [[2]], [[3]], [[None]]], (False, set())),
+    ],
+)
+def test_bison_agrees_on_hand_written_grammars(
+    raw: RawGrammar, expected: tuple[bool, set[str]], tmp_path: Path
+) -> None:
+    assert bison_verdict(raw, tmp_path) == expected
+    our_dead, our_useless = ours(raw)
+    assert our_dead == expected[0]
+    if not our_dead:  # Bison lists no useless symbols once the start is dead
+        assert our_useless == expected[1]
 
 
 def test_cfg_of_empty_grammar() -> None:

@@ -9,6 +9,8 @@ import sys
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from conftest import GRAMMARS
@@ -116,14 +118,28 @@ def test_fmt_leaves_files_with_syntax_errors_alone(tmp_path: Path) -> None:
     assert path.read_text() == text
 
 
-@pytest.mark.parametrize("args", [["check"], ["fmt", "--check"]])
-def test_garbage_files_never_give_a_traceback(tmp_path: Path, args: list[str]) -> None:
-    for i, data in enumerate([b"\xff\xfe", b"\x00", b"<a> ::= <", b"@@@@", b"::=::=", bytes(range(256))]):
-        path = tmp_path / f"g{i}.gg"
-        path.write_bytes(data)
-        result = runner.invoke(app, [*args, str(path)])
-        assert result.exit_code in (0, 1, 2)
-        assert result.exception is None or isinstance(result.exception, SystemExit)
+@settings(max_examples=150)
+@given(data=st.one_of(st.binary(max_size=200), st.text(max_size=200).map(str.encode)))
+@pytest.mark.parametrize("args", [["check"], ["check", "-f", "json"], ["fmt", "--check"]])
+def test_garbage_files_never_give_a_traceback(
+    tmp_path_factory: pytest.TempPathFactory, args: list[str], data: bytes
+) -> None:
+    path = tmp_path_factory.mktemp("garbage") / "g.gg"
+    path.write_bytes(data)
+    result = runner.invoke(app, [*args, str(path)])
+    assert result.exit_code in (0, 1, 2)
+    assert result.exception is None or isinstance(result.exception, SystemExit), result.exception
+    if result.exit_code == 2:
+        assert "error:" in result.stderr
+
+
+def test_directories_and_huge_files_get_clear_errors(tmp_path: Path) -> None:
+    huge = tmp_path / "huge.gg"
+    huge.write_bytes(b"<a> ::= x\n" * (1024 * 1024))  # 10 MB
+    result = runner.invoke(app, ["check", str(huge), str(tmp_path)])
+    assert result.exit_code == 2
+    assert f"error: {huge}: is 10.5 MB; grammars over 8.4 MB are refused" in result.stderr
+    assert f"error: {tmp_path}: is a directory" in result.stderr
 
 
 def test_console_script_runs_as_a_module(broken: Path) -> None:
