@@ -65,7 +65,8 @@ class GrammarFacts:
 
 
 def analyse(grammar: Grammar, cfg: Cfg | None = None) -> GrammarFacts:
-    cfg = cfg or build_cfg(grammar)
+    if cfg is None:
+        cfg = build_cfg(grammar)
     depth, choice_depth = min_depths(cfg)
     productive = tuple(d is not None for d in depth)
     reachable = reachable_from(cfg, [] if cfg.start is None else [cfg.start])

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import typer
 
-from gaitgram.cli import check, fmt
+from gaitgram.cli import check, compile, evolve, fmt, map, sample
 
 app = typer.Typer(
     name="gaitgram",
@@ -21,6 +21,10 @@ app = typer.Typer(
 )
 app.command("check")(check.command)
 app.command("fmt")(fmt.command)
+app.command("compile")(compile.command)
+app.command("map")(map.command)
+app.command("sample")(sample.command)
+app.command("evolve")(evolve.command)
 
 
 def main() -> None:

@@ -1,0 +1,85 @@
+"""The fitness backend plug-in API: what a backend receives and what it returns.
+
+A backend evaluates a whole generation at once (a :class:`MotionBatch`) and
+returns one :class:`Evaluation` per gait: a fitness (lower is better), its named
+components, and a status. A bad gait is a status, never an exception that takes
+the batch down. Backends are registered as :class:`~gaitgram.backends.registry.BackendSpec`
+entry points; ``spec.load(settings)`` returns an :class:`Evaluator`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from enum import StrEnum
+from typing import Any, Protocol, runtime_checkable
+
+from gaitgram.motion.gait import MotionBatch, MotionProblem
+
+#: The score of a gait that cannot be judged (fell, flipped, no motion): worse than any real one.
+WORST_FITNESS = 1.0e9
+
+
+class GaitStatus(StrEnum):
+    OK = "ok"
+    FELL = "fell"  # the trunk came down too low
+    FLIPPED = "flipped"  # the trunk rolled or pitched over
+    UNSTABLE = "unstable"  # the simulation diverged (MuJoCo warnings, non-finite state)
+    INVALID_GENOME = "invalid-genome"
+    INVALID_MOTION = "invalid-motion"
+    NON_FINITE = "non-finite"
+
+    @property
+    def viable(self) -> bool:
+        return self is GaitStatus.OK
+
+
+_FROM_PROBLEM = {
+    MotionProblem.INVALID_GENOME: GaitStatus.INVALID_GENOME,
+    MotionProblem.INVALID_MOTION: GaitStatus.INVALID_MOTION,
+    MotionProblem.NON_FINITE: GaitStatus.NON_FINITE,
+}
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    fitness: float
+    status: GaitStatus = GaitStatus.OK
+    components: Mapping[str, float] = field(default_factory=dict)
+    detail: str | None = None
+
+    @classmethod
+    def unviable(cls, status: GaitStatus, detail: str | None = None) -> Evaluation:
+        return cls(WORST_FITNESS, status, {}, detail)
+
+    def as_record(self) -> dict[str, Any]:
+        return {
+            "fitness": self.fitness,
+            "status": self.status.value,
+            "components": dict(self.components),
+            "detail": self.detail,
+        }
+
+
+def unusable_evaluations(batch: MotionBatch) -> dict[int, Evaluation]:
+    """The gaits a backend need not simulate, already scored: index -> evaluation."""
+    return {
+        g: Evaluation.unviable(_FROM_PROBLEM[problem], batch.details[g])
+        for g, problem in enumerate(batch.problems)
+        if problem is not None
+    }
+
+
+@runtime_checkable
+class Evaluator(Protocol):
+    """A loaded backend. ``evaluate`` is called once per generation with the whole population.
+
+    ``weights`` (component name -> weight) are the fitness weights in force this
+    generation (the paper's Table 2); None means the backend's defaults.
+    """
+
+    def evaluate(
+        self, batch: MotionBatch, *, generation: int = 0, weights: Mapping[str, float] | None = None
+    ) -> list[Evaluation]: ...
+
+    def close(self) -> None: ...

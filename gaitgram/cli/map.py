@@ -1,0 +1,75 @@
+"""``gaitgram map``: one genome through a grammar, with its derivation tree."""
+
+from __future__ import annotations
+
+import json
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+
+from gaitgram.cli.common import err, load_usable, read_genome
+from gaitgram.cli.options import Defines, parse_defines
+from gaitgram.ge import CodonMode, compile_mapper, python_filter
+from gaitgram.ge.visualise import RENDERERS, GraphvizMissing
+
+
+class TreeFormat(StrEnum):
+    ASCII = "ascii"
+    DOT = "dot"
+    SVG = "svg"
+    MERMAID = "mermaid"
+
+
+def command(
+    grammar: Annotated[Path, typer.Argument(help="The grammar.", show_default=False)],
+    genome: Annotated[str | None, typer.Option(help="Codons, e.g. 12,7,301.")] = None,
+    genome_file: Annotated[
+        Path | None, typer.Option(help="Read the codons from a file; - for standard input.")
+    ] = None,
+    codons: Annotated[
+        CodonMode, typer.Option(help="lazy (GEVA, the paper) or eager (PonyGE2).")
+    ] = CodonMode.LAZY,
+    max_wraps: Annotated[int, typer.Option(min=0, help="W wraps allow W+1 passes over the genome.")] = 3,
+    max_depth: Annotated[int | None, typer.Option(min=1, help="Deepest allowed rule node.")] = None,
+    tree: Annotated[TreeFormat | None, typer.Option(help="Also print the derivation tree.")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+    defines: Defines = None,
+) -> None:
+    """Map a genome to its phenotype: used codons, wraps, depth, nodes, joint curves, and the tree."""
+    codon_values = read_genome(genome, genome_file)
+    result = load_usable(grammar, parse_defines(defines))
+    mapper = compile_mapper(result.grammar, codons=codons, max_wraps=max_wraps, max_depth=max_depth)
+    derivation = mapper.map(codon_values)
+    if grammar.suffix == ".pybnf" and derivation.phenotype is not None:  # PonyGE2's python mode
+        derivation.phenotype = python_filter(derivation.phenotype)
+    rendered = None
+    if tree is not None:
+        try:
+            rendered = RENDERERS[tree.value](derivation)
+        except GraphvizMissing as missing:
+            err.print(f"error: {missing}", style="bold red")
+            raise typer.Exit(2) from None
+    if as_json:
+        record = derivation.summary()
+        if rendered is not None:
+            record["tree"] = rendered
+        typer.echo(json.dumps(record, ensure_ascii=False))
+    else:
+        out = Console(highlight=False, soft_wrap=True)
+        if derivation.valid:
+            out.print(derivation.phenotype, markup=False)
+        else:
+            out.print(f"invalid: {derivation.reason}", style="bold red")
+        err.print(
+            f"used codons {derivation.used_codons}, wraps {derivation.wraps}, depth {derivation.depth}, "
+            f"nodes {derivation.nodes}"
+        )
+        for joint, text in derivation.joints.items():
+            out.print(f"{joint}: {text}", markup=False)
+        if rendered is not None:
+            typer.echo(rendered, nl=False)
+    if not derivation.valid:
+        raise typer.Exit(1)

@@ -1,0 +1,1 @@
+"""Evolution: run configuration, the GE loop with checkpoints, run records and reports."""

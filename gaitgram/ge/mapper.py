@@ -1,0 +1,575 @@
+"""The GE mapper: a grammar compiled once into flat tables, then genomes mapped many times.
+
+Semantics (DESIGN §3): depth-first, leftmost non-terminal first;
+``choice = codon % n_choices``; a typed range is one choice set. Codons are read
+in order and wrap around the genome; with ``max_wraps = W`` at most
+``len(genome) * (W + 1)`` can be read. In ``eager`` mode (PonyGE2) every
+expansion reads a codon; in ``lazy`` mode (GEVA, the paper's tool) a rule with a
+single choice reads none.
+
+Two ways to map:
+
+* :meth:`Mapper.map` builds the full :class:`~gaitgram.ge.derivation.Derivation`
+  (tree, depth, node count, joint phenotypes);
+* :meth:`Mapper.map_fast` / :meth:`Mapper.map_many` give phenotype, used codons,
+  wraps and joint phenotypes only, several times faster: the evolution loop's path.
+
+Both are loops over explicit stacks (no recursion limit on deep derivations)
+and agree on every genome (a property test checks it against a recursive
+reference). The fast loops lean on CPython specifics for speed, each noted where
+it is used: the stack holds ``int`` rule indices and ``str`` terminals, codons
+come from a ``for`` loop over the genome (a pass per wrap), and a rule that
+must not be expanded has a choice count of 0, so that the modulo raises.
+``python -m benchmarks map`` measures both paths.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from enum import StrEnum
+from operator import length_hint
+from typing import Any, NamedTuple
+
+from gaitgram.analysis.cfg import Cfg, Item, RuleKind, build_cfg
+from gaitgram.ge.derivation import Derivation, InvalidReason, Node
+from gaitgram.language.model import Grammar
+
+__all__ = [
+    "CodonMode",
+    "Mapped",
+    "Mapper",
+    "MapperError",
+    "MappingOptions",
+    "compile_mapper",
+]
+
+
+class CodonMode(StrEnum):
+    #: A single-choice rule reads no codon (GEVA; the paper's runs). The default.
+    LAZY = "lazy"
+    #: Every expansion reads a codon, unit rules included (PonyGE2).
+    EAGER = "eager"
+
+
+class MapperError(ValueError):
+    """The grammar or the options cannot make a mapper (a genome never raises this)."""
+
+
+@dataclass(frozen=True, slots=True)
+class MappingOptions:
+    codons: CodonMode = CodonMode.LAZY
+    #: W wraps allow W + 1 passes over the genome (the paper: 3).
+    max_wraps: int = 3
+    #: Deepest allowed rule node (root at depth 1); None: no limit.
+    max_depth: int | None = None
+
+    def __post_init__(self) -> None:
+        try:
+            object.__setattr__(self, "codons", CodonMode(self.codons))
+        except ValueError:
+            raise MapperError(f"codons must be 'lazy' or 'eager', not {self.codons!r}") from None
+        if isinstance(self.max_wraps, bool) or not isinstance(self.max_wraps, int) or self.max_wraps < 0:
+            raise MapperError(f"max_wraps must be an integer >= 0, not {self.max_wraps!r}")
+        if self.max_depth is not None and (
+            isinstance(self.max_depth, bool) or not isinstance(self.max_depth, int) or self.max_depth < 1
+        ):
+            raise MapperError(f"max_depth must be an integer >= 1 or None, not {self.max_depth!r}")
+
+    @property
+    def passes(self) -> int:
+        return self.max_wraps + 1
+
+
+class Mapped(NamedTuple):
+    """A genome's phenotype without its tree: what the fast path returns."""
+
+    phenotype: str | None
+    used_codons: int
+    wraps: int
+    joints: dict[str, str]
+    reason: InvalidReason | None
+
+    @property
+    def valid(self) -> bool:
+        return self.reason is None
+
+
+class _Mark(str):
+    """An empty terminal marking where a joint rule's subtree opens or closes.
+
+    It travels through the fast loops as a terminal (so they need no extra
+    branch) and lands in the output list, where it joins as ``""``; the joint
+    phenotypes are cut out between marks afterwards, only for grammars with joints.
+    """
+
+    rule: int
+    opening: bool
+
+    def __new__(cls, rule: int, opening: bool) -> _Mark:
+        mark = super().__new__(cls, "")
+        mark.rule = rule
+        mark.opening = opening
+        return mark
+
+
+#: Bottom-of-stack sentinel in the fast loops: an int, so that the terminal loop stops at it.
+_DONE = -1
+#: Level-close sentinel in the depth-tracking loop.
+_UP = -2
+#: How many copies of the genome the depth-limited loop lays out before extending on demand.
+_PREFETCH_PASSES = 4
+
+_Op = tuple[str, int | None, tuple[Any, ...]]  # (leading terminals, first rule, the rest reversed)
+
+
+def compile_mapper(
+    source: Grammar | Cfg,
+    *,
+    codons: CodonMode | str = CodonMode.LAZY,
+    max_wraps: int = 3,
+    max_depth: int | None = None,
+    joints: Mapping[str, str] | None = None,
+) -> Mapper:
+    """Compile a grammar (or its :class:`Cfg`) into a :class:`Mapper`.
+
+    ``joints`` (joint name -> rule name) defaults to the grammar's ``@joint``
+    declarations; pass it to get joint phenotypes from a bare ``Cfg``.
+    """
+    options = MappingOptions(codons, max_wraps, max_depth)  # type: ignore[arg-type]  # validated there
+    if isinstance(source, Grammar):
+        cfg = build_cfg(source)
+        if joints is None:
+            joints = {decl.joint: decl.rule for decl in source.joints}
+    else:
+        cfg = source
+    return Mapper(cfg, options, joints)
+
+
+def _as_list(genome: Sequence[int]) -> list[int] | tuple[int, ...]:
+    if genome.__class__ is list or genome.__class__ is tuple:
+        return genome  # type: ignore[return-value]
+    tolist = getattr(genome, "tolist", None)  # numpy: plain ints index and divide far faster
+    return tolist() if tolist is not None else list(genome)
+
+
+def _wraps(used: int, length: int) -> int:
+    return (used - 1) // length if used > 0 and length > 0 else 0
+
+
+class Mapper:
+    """A grammar's production tables for one set of :class:`MappingOptions`.
+
+    Build with :func:`compile_mapper`. Immutable after construction and safe to
+    share between threads; one mapper maps any number of genomes.
+    """
+
+    def __init__(self, cfg: Cfg, options: MappingOptions, joints: Mapping[str, str] | None = None) -> None:
+        if cfg.start is None:
+            raise MapperError("the grammar has no (defined) start rule")
+        self.cfg = cfg
+        self.options = options
+        self.start: int = cfg.start
+        self.rule_names: tuple[str, ...] = cfg.names
+        #: Choices per rule as written (typed ranges expanded), whatever the mode.
+        self.n_choices: tuple[int, ...] = tuple(len(choices) for choices in cfg.choices)
+        eager = options.codons is CodonMode.EAGER
+        #: Choices per rule, terminals joined and empty ones dropped.
+        self.productions: tuple[tuple[tuple[Item, ...], ...], ...] = tuple(
+            tuple(_join_terminals(choice) for choice in choices) for choices in cfg.choices
+        )
+        #: Whether expanding each rule reads a codon.
+        self.reads: tuple[bool, ...] = tuple(eager or k != 1 for k in self.n_choices)
+
+        # Rules the mapper refuses to expand, and why. Without a depth limit a lazy
+        # derivation can loop through single-choice rules forever without reading a
+        # codon; those rules are found here, once, rather than hanging at map time.
+        # With a limit such a derivation simply runs into it, as it would anywhere.
+        self.stops: dict[int, InvalidReason] = {
+            r: InvalidReason.UNDEFINED for r, k in enumerate(self.n_choices) if k == 0
+        }
+        if not eager and options.max_depth is None:
+            for r in _silent_divergent(self.productions, self.n_choices):
+                self.stops[r] = InvalidReason.NONTERMINATING
+        #: Effective choice counts: 0 for a rule in ``stops`` (division by it ends the fast loops).
+        self._k: tuple[int, ...] = tuple(0 if r in self.stops else k for r, k in enumerate(self.n_choices))
+
+        # Joints: rule index -> joint names (a rule may, oddly, carry several).
+        by_rule: dict[int, list[str]] = {}
+        for joint, rule in (joints or {}).items():
+            r = cfg.index.get(rule)
+            if r is not None and cfg.kinds[r] is not RuleKind.UNDEFINED:
+                by_rule.setdefault(r, []).append(joint)
+        self.joint_rules: dict[int, tuple[str, ...]] = {r: tuple(names) for r, names in by_rule.items()}
+        named = {name for names in by_rule.values() for name in names}
+        self._joint_order: tuple[str, ...] = tuple(j for j in (joints or {}) if j in named)
+
+        self._ops: tuple[tuple[_Op, ...], ...] = tuple(
+            tuple(self._op(r, choice) for choice in choices) for r, choices in enumerate(self.productions)
+        )
+        self._unit_ops: tuple[_Op | None, ...] = tuple(
+            ops[0] if self._k[r] == 1 else None for r, ops in enumerate(self._ops)
+        )
+        self._passes = options.passes
+        self._prefetch = min(options.passes, _PREFETCH_PASSES)
+        if options.max_depth is not None:
+            self._run = self._run_depth
+        elif eager:
+            self._run = self._run_eager
+        else:
+            self._run = self._run_lazy
+
+    def _op(self, rule: int, items: tuple[Item, ...]) -> _Op:
+        """A choice as the fast loops apply it: emit the leading terminals, continue with
+        the first rule directly (saving a push and a pop), push the rest reversed."""
+        if rule in self.joint_rules:
+            return "", None, (_Mark(rule, False), *reversed(items), _Mark(rule, True))
+        lead = ""
+        rest = list(items)
+        if rest and isinstance(rest[0], str):
+            lead = rest.pop(0)
+        head = rest.pop(0) if rest else None
+        assert head is None or isinstance(head, int)
+        return lead, head, tuple(reversed(rest))
+
+    def __repr__(self) -> str:
+        o = self.options
+        return (
+            f"Mapper(start=<{self.rule_names[self.start]}>, rules={len(self.rule_names)}, "
+            f"codons={o.codons.value}, max_wraps={o.max_wraps}, max_depth={o.max_depth})"
+        )
+
+    # ---- the fast path ---------------------------------------------------------------
+
+    def map_fast(self, genome: Sequence[int]) -> Mapped:
+        """Phenotype, used codons, wraps and joint phenotypes, without building the tree."""
+        return self.map_many((genome,))[0]
+
+    def map_many(self, genomes: Iterable[Sequence[int]]) -> list[Mapped]:
+        """:meth:`map_fast` over many genomes (the per-genome overhead hoisted out of the loop)."""
+        run, cut = self._run, (self._cut_joints if self.joint_rules else None)
+        new = tuple.__new__
+        results: list[Mapped] = []
+        append = results.append
+        for genome in genomes:
+            codons = genome if genome.__class__ is list else _as_list(genome)
+            out, used, reason = run(codons)
+            n = len(codons)
+            wraps = (used - 1) // n if used and n else 0
+            if reason is None:
+                append(new(Mapped, ("".join(out), used, wraps, cut(out) if cut else {}, None)))
+            else:
+                append(new(Mapped, (None, used, wraps, {}, reason)))
+        return results
+
+    def phenotype(self, genome: Sequence[int]) -> str | None:
+        """Just the phenotype (None if invalid)."""
+        out, _, reason = self._run(_as_list(genome))
+        return None if reason is not None else "".join(out)
+
+    def _run_eager(self, codons: Sequence[int]) -> tuple[list[str], int, InvalidReason | None]:
+        ks, ops, stops = self._k, self._ops, self.stops
+        n = len(codons)
+        out: list[str] = []
+        append = out.append
+        stack: list[Any] = [_DONE]
+        pop, extend = stack.pop, stack.extend
+        item = self.start
+        # One expansion per codon, so the codons drive the loop: a pass per genome wrap,
+        # and the iterator's remaining length tells how many were used.
+        for passes in range(self._passes):
+            codon_iter = iter(codons)
+            try:
+                for codon in codon_iter:
+                    # ZeroDivisionError at a rule in ``stops``, after fetching a codon it does not use.
+                    lead, head, rest = ops[item][codon % ks[item]]
+                    if lead:
+                        append(lead)
+                    if rest:
+                        extend(rest)
+                    if head is not None:
+                        item = head
+                        continue
+                    item = pop()
+                    while type(item) is not int:  # terminals (and joint marks)
+                        append(item)
+                        item = pop()
+                    if item < 0:
+                        return out, (passes + 1) * n - length_hint(codon_iter), None
+            except ZeroDivisionError:
+                return out, (passes + 1) * n - length_hint(codon_iter) - 1, stops[item]
+        return out, self._passes * n, stops.get(item, InvalidReason.CODONS)
+
+    def _run_lazy(self, codons: Sequence[int]) -> tuple[list[str], int, InvalidReason | None]:
+        ks, ops, unit_ops, stops = self._k, self._ops, self._unit_ops, self.stops
+        n = len(codons)
+        out: list[str] = []
+        append = out.append
+        stack: list[Any] = [_DONE]
+        pop, extend = stack.pop, stack.extend
+        item = self.start
+        # As _run_eager, except that after each expansion the single-choice rules that
+        # follow are expanded on the spot, so that the loop sees only rules that read.
+        while ks[item] == 1:
+            lead, head, rest = unit_ops[item]  # type: ignore[misc]
+            if lead:
+                append(lead)
+            if rest:
+                extend(rest)
+            if head is not None:
+                item = head
+                continue
+            item = pop()
+            while type(item) is not int:
+                append(item)
+                item = pop()
+            if item < 0:
+                return out, 0, None
+        for passes in range(self._passes):
+            codon_iter = iter(codons)
+            try:
+                for codon in codon_iter:
+                    lead, head, rest = ops[item][codon % ks[item]]
+                    while True:
+                        if lead:
+                            append(lead)
+                        if rest:
+                            extend(rest)
+                        if head is not None:
+                            item = head
+                        else:
+                            item = pop()
+                            while type(item) is not int:
+                                append(item)
+                                item = pop()
+                            if item < 0:
+                                return out, (passes + 1) * n - length_hint(codon_iter), None
+                        if ks[item] != 1:
+                            break
+                        lead, head, rest = unit_ops[item]  # type: ignore[misc]
+            except ZeroDivisionError:
+                return out, (passes + 1) * n - length_hint(codon_iter) - 1, stops[item]
+        return out, self._passes * n, stops.get(item, InvalidReason.CODONS)
+
+    def _run_depth(self, codons: Sequence[int]) -> tuple[list[str], int, InvalidReason | None]:
+        """Both modes with a depth limit: a level-close sentinel under each expansion's children."""
+        ks, ops, reads, stops = self._k, self._ops, self.reads, self.stops
+        max_depth = self.options.max_depth
+        assert max_depth is not None
+        limit = len(codons) * self._passes
+        g = codons * self._prefetch if codons.__class__ is list else list(codons) * self._prefetch
+        out: list[str] = []
+        append = out.append
+        stack: list[Any] = [_DONE]
+        pop, push, extend = stack.pop, stack.append, stack.extend
+        used = 0
+        depth = 0  # rule nodes open above ``item``
+        item = self.start
+        while True:
+            try:
+                while True:
+                    if depth >= max_depth:
+                        return out, used, InvalidReason.DEPTH
+                    if reads[item]:
+                        # IndexError when the codons laid out so far run out, ZeroDivisionError
+                        # at a rule in ``stops``: both before any state changes, so a retry is exact.
+                        lead, head, rest = ops[item][g[used] % ks[item]]
+                        used += 1
+                    else:
+                        lead, head, rest = ops[item][0]
+                    depth += 1
+                    if lead:
+                        append(lead)
+                    push(_UP)
+                    if rest:
+                        extend(rest)
+                    if head is not None:
+                        item = head
+                        continue
+                    item = pop()
+                    while True:
+                        while type(item) is not int:
+                            append(item)
+                            item = pop()
+                        if item >= 0:
+                            break
+                        if item == _DONE:
+                            return out, used, None
+                        depth -= 1
+                        item = pop()
+            except IndexError:
+                if ks[item] == 0:
+                    return out, used, stops[item]
+                if len(g) >= limit:
+                    return out, used, InvalidReason.CODONS
+                g.extend(codons)
+            except ZeroDivisionError:
+                return out, used, stops[item]
+
+    def _cut_joints(self, out: list[str]) -> dict[str, str]:
+        """Each joint's phenotype: the text between its rule's first opening mark and the
+        matching close (nested occurrences of the same rule are inside it)."""
+        opened: dict[int, int] = {}
+        nesting: dict[int, int] = {}
+        texts: dict[int, str] = {}
+        for i, piece in enumerate(out):
+            if piece.__class__ is not _Mark:
+                continue
+            rule = piece.rule  # type: ignore[attr-defined]
+            if rule in texts:
+                continue
+            if piece.opening:  # type: ignore[attr-defined]
+                opened.setdefault(rule, i)
+                nesting[rule] = nesting.get(rule, 0) + 1
+            else:
+                nesting[rule] -= 1
+                if nesting[rule] == 0:
+                    texts[rule] = "".join(out[opened[rule] + 1 : i])
+        return self._name_joints(texts)
+
+    def _name_joints(self, texts: dict[int, str]) -> dict[str, str]:
+        by_joint = {name: texts[r] for r, names in self.joint_rules.items() if r in texts for name in names}
+        return {name: by_joint[name] for name in self._joint_order if name in by_joint}
+
+    # ---- the full derivation ------------------------------------------------------------
+
+    def map(self, genome: Sequence[int]) -> Derivation:
+        """Map a genome to its full derivation: tree, statistics and joint phenotypes."""
+        codons = _as_list(genome)
+        n = len(codons)
+        limit = n * self.options.passes
+        max_depth = self.options.max_depth
+        ks, productions, reads, stops = self._k, self.productions, self.reads, self.stops
+        joint_rules = self.joint_rules
+        out: list[str] = []
+        append = out.append
+        root = Node(self.start)
+        # Entries: terminal text, (unexpanded rule node, its depth), or (joint rule, output offset)
+        # where the subtree of that rule's first occurrence ends.
+        stack: list[Any] = [(root, 1)]
+        pop, push = stack.pop, stack.append
+        claimed: set[int] = set()
+        texts: dict[int, str] = {}
+        used = depth = nodes = 0
+        reason: InvalidReason | None = None
+        while stack:
+            entry = pop()
+            if entry.__class__ is str:
+                append(entry)
+                continue
+            node, level = entry
+            if node.__class__ is int:  # the first subtree of a joint rule is complete
+                texts[node] = "".join(out[level:])
+                continue
+            item = node.symbol
+            nodes += 1
+            if level > depth:
+                depth = level
+                if max_depth is not None and level > max_depth:
+                    reason = InvalidReason.DEPTH
+                    break
+            k = ks[item]
+            if k == 0:
+                reason = stops[item]
+                break
+            if reads[item]:
+                if used >= limit:
+                    reason = InvalidReason.CODONS
+                    break
+                codon = codons[used % n]
+                node.codon_index = used
+                node.codon = codon
+                node.choice = choice = codon % k
+                used += 1
+            else:
+                node.choice = choice = 0
+            if item in joint_rules and item not in claimed:
+                claimed.add(item)
+                push((item, len(out)))
+            children = node.children = [Node(x) for x in productions[item][choice]]
+            level += 1
+            for child in reversed(children):
+                push(child.symbol if child.symbol.__class__ is str else (child, level))
+        valid = reason is None
+        return Derivation(
+            phenotype="".join(out) if valid else None,
+            used_codons=used,
+            wraps=_wraps(used, n),
+            depth=depth,
+            nodes=nodes,
+            tree=root,
+            joints=self._name_joints(texts) if valid else {},
+            reason=reason,
+            rule_names=self.rule_names,
+            genome_length=n,
+        )
+
+
+def _join_terminals(choice: tuple[Item, ...]) -> tuple[Item, ...]:
+    items: list[Item] = []
+    for item in choice:
+        if isinstance(item, str):
+            if not item:
+                continue
+            if items and isinstance(items[-1], str):
+                items[-1] += item
+                continue
+        items.append(item)
+    return tuple(items)
+
+
+def _silent_divergent(
+    productions: Sequence[Sequence[tuple[Item, ...]]], n_choices: Sequence[int]
+) -> set[int]:
+    """Single-choice rules whose lazy expansion recurses forever before reading a codon.
+
+    A single-choice rule is *silent* if it finishes without reading a codon (all
+    its rules silent: a least fixed point). Expanding a non-silent single-choice
+    rule passes its leading silent items and then expands the first non-silent
+    one: a rule that reads a codon or has no choices (the chain ends), or another
+    single-choice rule. That "next" map is a function; the rules from which it
+    cycles are the divergent ones. Linear in the grammar's size.
+    """
+    n = len(n_choices)
+    unit = [k == 1 for k in n_choices]
+    silent = [False] * n
+    waiting = [0] * n
+    users: list[list[int]] = [[] for _ in range(n)]
+    ready = []
+    for r in range(n):
+        if not unit[r]:
+            continue
+        needed = {item for item in productions[r][0] if isinstance(item, int)}
+        waiting[r] = len(needed)
+        for child in needed:
+            users[child].append(r)
+        if not needed:
+            ready.append(r)
+    while ready:
+        r = ready.pop()
+        silent[r] = True
+        for u in users[r]:
+            waiting[u] -= 1
+            if waiting[u] == 0:
+                ready.append(u)
+
+    following: dict[int, int] = {}
+    for r in range(n):
+        if unit[r] and not silent[r]:
+            following[r] = next(i for i in productions[r][0] if isinstance(i, int) and not silent[i])
+    divergent: set[int] = set()
+    settled: set[int] = set()
+    for r in following:
+        path: list[int] = []
+        on_path: set[int] = set()
+        x = r
+        while x in following and x not in settled and x not in on_path:
+            path.append(x)
+            on_path.add(x)
+            x = following[x]
+        # The walk stopped at a cycle of its own, at a rule already settled, or at a
+        # rule that reads a codon or has no choices (the end of the chain).
+        if x in on_path or x in divergent:
+            divergent.update(path)
+        settled.update(path)
+    return divergent

@@ -1,0 +1,232 @@
+"""The GE loop: it optimises, it is deterministic, and it survives being killed."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from gaitgram.analysis import check
+from gaitgram.backends.curve_match import CurveMatch
+from gaitgram.cli import app
+from gaitgram.evolution.config import ConfigError, RunConfig, WeightStage, load_config
+from gaitgram.evolution.engine import Problem, run_evolution
+from gaitgram.language import parse
+
+runner = CliRunner()
+
+#: One joint, a reachable target: amplitude 7 and phase 1.5 are on the grammar's grids.
+GRAMMAR = """\
+@start <gait>
+<gait> ::= <hip>;<elbow>
+@joint hip_hind free=3..
+<hip> ::= <amp>*sin(<k>*2*PI*t+<phase>) | <amp>*cos(<k>*2*PI*t+<phase>)
+@joint elbow_fore
+<elbow> ::= <amp>*sin(<k>*2*PI*t+<phase>)+<amp>
+<amp> ::= int[0..20]
+<k> ::= int[1..3]
+<phase> ::= float[0..3 step 0.5]
+"""
+TARGETS = {"hip_hind": "7*sin(1*2*PI*t+1.5)", "elbow_fore": "3*sin(2*2*PI*t+0.5)+4"}
+
+
+def config_file(tmp_path: Path, generations: int = 25, **extra: object) -> Path:
+    lines = [
+        f"generations = {generations}",
+        "population = 40",
+        "elite = 4",
+        "init_max_depth = 6",
+        'backend = "curve-match"',
+        *(f"{k} = {v}" for k, v in extra.items()),
+        "",
+        "[backend_settings.targets]",
+        *(f'{k} = "{v}"' for k, v in TARGETS.items()),
+    ]
+    path = tmp_path / "run.toml"
+    path.write_text("\n".join(lines) + "\n")
+    (tmp_path / "g.gg").write_text(GRAMMAR)
+    return path
+
+
+def evolve(tmp_path: Path, config: RunConfig, run_dir: str = "run"):
+    problem = Problem(check(parse(GRAMMAR)), config)
+    return run_evolution(problem, CurveMatch(TARGETS), config, 0, tmp_path / run_dir)
+
+
+def test_evolution_finds_a_reachable_target(tmp_path: Path) -> None:
+    state = evolve(tmp_path, RunConfig(generations=100, population=60, elite=4, init_max_depth=6, seed=3))
+    first, last = state.history[0], state.history[-1]
+    assert first.best > 1.0
+    assert last.best < 1e-9  # found exactly
+    assert [s.best for s in state.history] == sorted((s.best for s in state.history), reverse=True)  # elitism
+
+
+def test_same_seed_same_run_different_seed_different_run(tmp_path: Path) -> None:
+    config = RunConfig(generations=6, population=20, elite=2, init_max_depth=6, seed=5)
+    a = evolve(tmp_path, config, "a")
+    b = evolve(tmp_path, config, "b")
+    c = evolve(tmp_path, RunConfig(generations=6, population=20, elite=2, init_max_depth=6, seed=6), "c")
+    assert (tmp_path / "a" / "stats.csv").read_text() == (tmp_path / "b" / "stats.csv").read_text()
+    assert [i.genome for i in a.population] == [i.genome for i in b.population]
+    assert [i.genome for i in a.population] != [i.genome for i in c.population]
+
+
+def test_frozen_joints_hold_neutral_until_free(tmp_path: Path) -> None:
+    problem = Problem(check(parse(GRAMMAR)), RunConfig())
+    assert problem.frozen_at(2) == {"hip_hind"}
+    assert problem.frozen_at(3) == frozenset()
+    genome = (7, 0, 3) * 5
+    at_2 = problem.evaluate([genome], CurveMatch(TARGETS), 2)[0].evaluation.components["rms_hip_hind"]
+    neutral = CurveMatch({"hip_hind": "0"}).evaluate  # distance of the target from a neutral joint
+    assert at_2 == pytest.approx(7 / 2**0.5)
+    assert neutral is not None
+
+
+def test_run_directory_records(tmp_path: Path) -> None:
+    config = config_file(tmp_path, generations=3)
+    result = runner.invoke(
+        app,
+        [
+            "evolve",
+            str(tmp_path / "g.gg"),
+            "-c",
+            str(config),
+            "-o",
+            str(tmp_path / "out"),
+            "--runs",
+            "2",
+            "-q",
+        ],
+    )
+    assert result.exit_code == 0, result.stderr
+    out = tmp_path / "out"
+    assert sorted(p.name for p in out.iterdir()) == [
+        "config.toml",
+        "grammar.gg",
+        "run-000",
+        "run-001",
+        "summary.json",
+    ]
+    stats = (out / "run-000" / "stats.csv").read_text().splitlines()
+    assert stats[0].startswith("generation,best,average,std,invalid,evaluations,mean_rms_elbow_fore")
+    assert len(stats) == 1 + 4
+    lines = [json.loads(x) for x in (out / "run-000" / "stats.jsonl").read_text().splitlines()]
+    assert [x["generation"] for x in lines] == [0, 1, 2, 3]
+    best = json.loads((out / "run-000" / "best.json").read_text())
+    assert {"genome", "phenotype", "joints", "fitness", "components", "derivation", "status"} <= best.keys()
+    assert best["fitness"] == min(x["best"] for x in lines)
+    summary = json.loads((out / "summary.json").read_text())
+    assert len(summary["runs"]) == 2
+    assert summary["runs"][0]["best_fitness"] != summary["runs"][1]["best_fitness"]  # derived seeds differ
+    assert load_config(out / "config.toml").runs == 2
+
+
+def test_existing_run_directory_is_never_overwritten(tmp_path: Path) -> None:
+    config = config_file(tmp_path, generations=1)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine")
+    result = runner.invoke(app, ["evolve", str(tmp_path / "g.gg"), "-c", str(config), "-o", str(out), "-q"])
+    assert result.exit_code == 2
+    assert "--resume" in result.stderr
+    assert (out / "notes.txt").read_text() == "mine"
+
+
+def test_config_errors_are_clear(tmp_path: Path) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text("generatoins = 5\n")
+    with pytest.raises(ConfigError, match="unknown key 'generatoins'"):
+        load_config(path)
+    path.write_text("population = 'many'\n")
+    with pytest.raises(ConfigError, match="population must be int"):
+        load_config(path)
+    path.write_text("elite = 80\n")
+    with pytest.raises(ConfigError, match="elite must be"):
+        load_config(path)
+    path.write_text("[[weight_schedule]]\nstart = 0\nweights = { energy = -1 }\n")
+    with pytest.raises(ConfigError, match="must be a number >= 0"):
+        load_config(path)
+    path.write_text("generations = \n")
+    result = runner.invoke(app, ["evolve", "grammars/sine-walk.gg", "-c", str(path)])
+    assert result.exit_code == 2
+    assert "not valid TOML" in result.stderr
+
+
+def test_weight_schedule_by_generation() -> None:
+    config = RunConfig(weight_schedule=(WeightStage(10, {"energy": 0.5}), WeightStage(0, {"energy": 0.0})))
+    assert config.weights_at(0) == {"energy": 0.0}
+    assert config.weights_at(10) == {"energy": 0.5}
+
+
+def _cli(*args: str) -> list[str]:
+    return [sys.executable, "-m", "gaitgram", *args]
+
+
+def _wait_for_generation(path: Path, generation: int, process: subprocess.Popen, timeout: float = 60) -> None:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if path.exists():
+            try:
+                if json.loads(path.read_text())["generation"] >= generation:
+                    return
+            except (json.JSONDecodeError, KeyError):
+                pass
+        assert process.poll() is None, "the run ended before it could be interrupted"
+        time.sleep(0.02)
+    raise TimeoutError
+
+
+@pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGINT])
+def test_killed_run_resumes_to_the_uninterrupted_result(tmp_path: Path, how: signal.Signals) -> None:
+    config = config_file(tmp_path, generations=200)
+    grammar = str(tmp_path / "g.gg")
+    whole = subprocess.run(
+        _cli("evolve", grammar, "-c", str(config), "-o", str(tmp_path / "whole"), "-q"),
+        capture_output=True,
+        text=True,
+    )
+    assert whole.returncode == 0, whole.stderr
+    interrupted = tmp_path / "interrupted"
+    process = subprocess.Popen(
+        _cli("evolve", grammar, "-c", str(config), "-o", str(interrupted), "-q"),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    _wait_for_generation(interrupted / "run-000" / "checkpoint.json", 30, process)
+    os.kill(process.pid, how)
+    _, stderr = process.communicate(timeout=60)
+    if how is signal.SIGINT:  # a clean stop after the current generation, and how to continue
+        assert process.returncode == 130
+        assert f"--resume {interrupted}" in stderr
+    assert not (interrupted / "summary.json").exists()
+    resumed = subprocess.run(
+        _cli("evolve", "--resume", str(interrupted), "-q"), capture_output=True, text=True
+    )
+    assert resumed.returncode == 0, resumed.stderr
+    for name in ("stats.csv", "stats.jsonl", "best.json"):
+        assert (interrupted / "run-000" / name).read_text() == (
+            tmp_path / "whole" / "run-000" / name
+        ).read_text()
+    assert (interrupted / "summary.json").read_text() == (tmp_path / "whole" / "summary.json").read_text()
+
+
+def test_dask_local_cluster_gives_the_local_result(tmp_path: Path) -> None:
+    pytest.importorskip("distributed", reason="Dask is an optional extra; the dev extra installs it")
+    config = config_file(tmp_path, generations=4)
+    grammar = str(tmp_path / "g.gg")
+    local = runner.invoke(app, ["evolve", grammar, "-c", str(config), "-o", str(tmp_path / "local"), "-q"])
+    dask = runner.invoke(
+        app, ["evolve", grammar, "-c", str(config), "-o", str(tmp_path / "dask"), "-q", "--dask-local", "2"]
+    )
+    assert local.exit_code == dask.exit_code == 0, dask.stderr
+    assert (tmp_path / "local/run-000/stats.csv").read_text() == (
+        tmp_path / "dask/run-000/stats.csv"
+    ).read_text()
