@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import typer
 
-from gaitgram.cli import check, compile, evolve, fmt, map, sample
+from gaitgram.cli import check, compile, evaluate, evolve, fmt, map, render, report, sample
 
 app = typer.Typer(
     name="gaitgram",
@@ -25,6 +25,9 @@ app.command("compile")(compile.command)
 app.command("map")(map.command)
 app.command("sample")(sample.command)
 app.command("evolve")(evolve.command)
+app.command("report")(report.command)
+app.command("evaluate")(evaluate.command)
+app.command("render")(render.command)
 
 
 def main() -> None:

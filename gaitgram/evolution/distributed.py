@@ -20,9 +20,7 @@ from gaitgram.motion.gait import MotionBatch
 
 class DaskMissing(ImportError):
     def __init__(self) -> None:
-        super().__init__(
-            "distributed evaluation needs Dask: pip install 'gaitgram[dask]'"
-        )
+        super().__init__("distributed evaluation needs Dask: pip install 'gaitgram[dask]'")
 
 
 def _import_distributed() -> Any:

@@ -13,11 +13,12 @@ import math
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
 
-from gaitgram.motion.expression import MotionStatus, compile_motion, phase_grid
+from gaitgram.motion.expression import Motion, MotionStatus, compile_motion, phase_grid
 
 #: Samples per cycle: enough for the 10th harmonic many times over, cheap to build.
 DEFAULT_SAMPLES = 256
@@ -72,13 +73,12 @@ def motion_batch(
 
     ``frozen`` joints hold neutral whatever their phenotype says (Table 3's schedule).
     """
-    phases = phase_grid(n_samples)
     scale = 180.0 / math.pi if units == "rad" else 1.0
     angles = np.zeros((len(phenotypes), len(joints), n_samples))
     problems: list[MotionProblem | None] = []
     details: list[str | None] = []
     for g, texts in enumerate(phenotypes):
-        problem, detail = _fill(angles[g], texts, joints, phases, scale, frozen)
+        problem, detail = _fill(angles[g], texts, joints, n_samples, scale, frozen)
         if problem is not None:
             angles[g] = np.nan
         problems.append(problem)
@@ -90,7 +90,7 @@ def _fill(
     out: NDArray[np.float64],
     texts: Mapping[str, str] | None,
     joints: Sequence[str],
-    phases: NDArray[np.float64],
+    n_samples: int,
     scale: float,
     frozen: Collection[str],
 ) -> tuple[MotionProblem | None, str | None]:
@@ -100,16 +100,30 @@ def _fill(
         text = texts.get(joint)
         if text is None or joint in frozen:
             continue
-        motion = compile_motion(text)
-        if not hasattr(motion, "evaluate"):
-            return MotionProblem.INVALID_MOTION, f"{joint}: {motion}"
-        curve = motion.evaluate(phases)  # type: ignore[union-attr]
-        if curve.status is not MotionStatus.OK:
-            problem = (
-                MotionProblem.NON_FINITE
-                if curve.status is MotionStatus.NON_FINITE
-                else MotionProblem.INVALID_MOTION
-            )
-            return problem, f"{joint}: {curve.error}"
-        out[j] = curve.values * scale
+        values, problem, detail = sampled_curve(text, n_samples)
+        if problem is not None:
+            return problem, f"{joint}: {detail}"
+        out[j] = values
+        if scale != 1.0:
+            out[j] *= scale
     return None, None
+
+
+@lru_cache(maxsize=16_384)
+def sampled_curve(text: str, n_samples: int) -> tuple[NDArray[np.float64], MotionProblem | None, str | None]:
+    """A phenotype's curve on the standard grid, cached: crossover and elitism hand the same
+    joint phenotypes on from generation to generation, so most are sampled only once."""
+    motion = compile_motion(text)
+    if not isinstance(motion, Motion):
+        return _EMPTY, MotionProblem.INVALID_MOTION, str(motion)
+    curve = motion.evaluate(phase_grid(n_samples))
+    if curve.status is not MotionStatus.OK:
+        non_finite = curve.status is MotionStatus.NON_FINITE
+        status = MotionProblem.NON_FINITE if non_finite else MotionProblem.INVALID_MOTION
+        return _EMPTY, status, str(curve.error)
+    values = curve.values.copy()
+    values.flags.writeable = False
+    return values, None, None
+
+
+_EMPTY = np.zeros(0)

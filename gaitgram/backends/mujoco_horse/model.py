@@ -1,0 +1,223 @@
+"""The horse's physics: loading ``horse.xml`` and describing its layout.
+
+Physics only (the dm_control split of physics and task): which actuators, joints
+and geoms belong to which of the 12 curves of ``joints.toml``, the standing pose
+and its control targets. Nothing here scores a gait.
+
+Angles are radians here; the curves' degrees are converted by the caller. Every
+hinge is 0 in the neutral pose and positive in flexion, so a control target is
+``neutral_ctrl + radians(curve value)``.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import cache
+from importlib.resources import files
+from types import MappingProxyType
+
+import mujoco
+import numpy as np
+
+from gaitgram.backends.catalogue import JointCatalogue
+from gaitgram.backends.mujoco_horse import CATALOGUE
+
+#: The four limbs, named as the suffix of their joints (``hip_hind_left``), in the
+#: walk's lateral footfall sequence: hind left, fore left, hind right, fore right.
+LIMBS: tuple[str, ...] = ("hind_left", "fore_left", "hind_right", "fore_right")
+SIDES: tuple[str, ...] = ("left", "right")
+#: Full physics state (time, qpos, qvel, act, ...): what ``mujoco.rollout`` starts from.
+STATE_SPEC = mujoco.mjtState.mjSTATE_FULLPHYSICS
+
+_XML = "horse.xml"
+
+
+@cache
+def _master_model() -> mujoco.MjModel:
+    xml = files(__package__).joinpath(_XML).read_text(encoding="utf-8")
+    return mujoco.MjModel.from_xml_string(xml)
+
+
+def load_model() -> mujoco.MjModel:
+    """The horse model; a private copy each call (the XML is compiled once per process)."""
+    return copy.copy(_master_model())
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    array = np.array(array)
+    array.setflags(write=False)
+    return array
+
+
+def _id(model: mujoco.MjModel, objtype: mujoco.mjtObj, name: str) -> int:
+    index = mujoco.mj_name2id(model, objtype, name)
+    if index < 0:
+        raise LookupError(f"the horse model has no {objtype.name.removeprefix('mjOBJ_').lower()} {name!r}")
+    return index
+
+
+def curve_limbs(curve: str) -> tuple[str | None, ...]:
+    """The limbs a curve drives (``fore_left``, ``fore_right``), or ``(None,)`` for a neck curve."""
+    parts = curve.split("_")
+    if len(parts) == 2 and parts[1] in ("fore", "hind"):
+        return tuple(f"{parts[1]}_{side}" for side in SIDES)
+    return (None,)
+
+
+def joint_name(curve: str, limb: str | None) -> str:
+    """The hinge (and actuator) a curve drives on a limb: ``hip_hind``, ``hind_left`` → ``hip_hind_left``."""
+    return curve if limb is None else f"{curve}_{limb.split('_')[1]}"
+
+
+@dataclass(frozen=True, eq=False)
+class HorseLayout:
+    """Where the 12 curves and the body parts live in the model's arrays.
+
+    Mappings are keyed by curve (``curves``, the order of ``joints.toml``) or by
+    limb (``LIMBS``). Per-actuator tuples and arrays have ``model.nu`` entries.
+    """
+
+    curves: tuple[str, ...]
+    #: per curve: actuator ids, hinge qpos addresses, dof addresses and limbs, aligned
+    curve_actuators: Mapping[str, tuple[int, ...]]
+    curve_qpos: Mapping[str, tuple[int, ...]]
+    curve_dofs: Mapping[str, tuple[int, ...]]
+    curve_limbs: Mapping[str, tuple[str | None, ...]]
+    #: per actuator: its joint's name, its curve (name and index into ``curves``), its limb
+    actuator_joint: tuple[str, ...]
+    actuator_curve: tuple[str, ...]
+    actuator_curve_index: np.ndarray
+    actuator_limb: tuple[str | None, ...]
+    actuator_qpos: np.ndarray
+    actuator_dof: np.ndarray
+    ctrl_low: np.ndarray
+    ctrl_high: np.ndarray
+    #: per limb: the hoof's contact geom, and the address of its touch sensor in sensordata
+    hoof_geoms: Mapping[str, int]
+    hoof_touch: Mapping[str, int]
+    trunk_body: int
+    trunk_geom: int
+    head_geom: int
+    floor_geom: int
+    #: every sensor's slice of ``MjData.sensordata`` by name
+    sensors: Mapping[str, slice]
+    #: control targets that hold every hinge at 0 while standing (gravity-compensated)
+    neutral_ctrl: np.ndarray
+    #: the settled standing pose: qpos with the trunk over the origin, at rest
+    stand_qpos: np.ndarray
+    standing_height: float  # trunk centre above the ground, standing (m)
+    hip_height: float  # hip (coxofemoral) joint above the ground, standing: h of the Froude number (m)
+    total_mass: float  # kg
+    timestep: float  # s
+
+    def initial_state(self, model: mujoco.MjModel) -> np.ndarray:
+        """The standing pose at rest as a ``STATE_SPEC`` vector (an ``initial_state`` for rollouts)."""
+        data = mujoco.MjData(model)
+        data.qpos[:] = self.stand_qpos
+        data.ctrl[:] = self.neutral_ctrl
+        state = np.empty(mujoco.mj_stateSize(model, STATE_SPEC))
+        mujoco.mj_getState(model, data, state, STATE_SPEC)
+        return state
+
+
+def _settle(model: mujoco.MjModel, data: mujoco.MjData, ctrl: np.ndarray, seconds: float) -> None:
+    data.ctrl[:] = ctrl
+    for _ in range(round(seconds / model.opt.timestep)):
+        mujoco.mj_step(model, data)
+
+
+def _stand(model: mujoco.MjModel, act_qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Settle on the ground from the neutral pose, correcting the targets for the servos' sag."""
+    data = mujoco.MjData(model)
+    ctrl = np.zeros(model.nu)
+    for _ in range(3):
+        mujoco.mj_resetData(model, data)
+        _settle(model, data, ctrl, 1.5)
+        ctrl = np.clip(ctrl - data.qpos[act_qpos], *model.actuator_ctrlrange.T)
+    mujoco.mj_resetData(model, data)
+    _settle(model, data, ctrl, 3.0)
+    qpos = data.qpos.copy()
+    qpos[0:2] = 0.0  # over the origin; height and orientation as settled
+    return ctrl, qpos
+
+
+def build_layout(model: mujoco.MjModel, catalogue: JointCatalogue = CATALOGUE) -> HorseLayout:
+    """Describe ``model`` (the horse, possibly with changed options) against the joint catalogue.
+
+    Raises LookupError when a curve's joint or actuator is missing. Settles the
+    horse for a few simulated seconds to find its standing pose (~0.1 s).
+    """
+    obj = mujoco.mjtObj
+    curves = catalogue.names
+    curve_actuators: dict[str, tuple[int, ...]] = {}
+    curve_qpos: dict[str, tuple[int, ...]] = {}
+    curve_dofs: dict[str, tuple[int, ...]] = {}
+    limbs_of: dict[str, tuple[str | None, ...]] = {}
+    act_joint: list[str] = [""] * model.nu
+    act_curve: list[str] = [""] * model.nu
+    act_limb: list[str | None] = [None] * model.nu
+    for curve in curves:
+        limbs = curve_limbs(curve)
+        names = [joint_name(curve, limb) for limb in limbs]
+        acts = tuple(_id(model, obj.mjOBJ_ACTUATOR, n) for n in names)
+        joints = [_id(model, obj.mjOBJ_JOINT, n) for n in names]
+        for a, j, n, limb in zip(acts, joints, names, limbs, strict=True):
+            if model.actuator_trnid[a, 0] != j or model.jnt_type[j] != mujoco.mjtJoint.mjJNT_HINGE:
+                raise LookupError(f"actuator {n!r} does not drive the hinge {n!r}")
+            act_joint[a], act_curve[a], act_limb[a] = n, curve, limb
+        curve_actuators[curve] = acts
+        curve_qpos[curve] = tuple(int(model.jnt_qposadr[j]) for j in joints)
+        curve_dofs[curve] = tuple(int(model.jnt_dofadr[j]) for j in joints)
+        limbs_of[curve] = limbs
+    if "" in act_curve:
+        raise LookupError(f"actuators driven by no curve: {[i for i, c in enumerate(act_curve) if not c]}")
+    act_qpos = np.array([model.jnt_qposadr[model.actuator_trnid[a, 0]] for a in range(model.nu)])
+    act_dof = np.array([model.jnt_dofadr[model.actuator_trnid[a, 0]] for a in range(model.nu)])
+
+    sensors = {
+        mujoco.mj_id2name(model, obj.mjOBJ_SENSOR, s): slice(
+            int(model.sensor_adr[s]), int(model.sensor_adr[s] + model.sensor_dim[s])
+        )
+        for s in range(model.nsensor)
+    }
+    ctrl, stand_qpos = _stand(model, act_qpos)
+    data = mujoco.MjData(model)
+    data.qpos[:] = stand_qpos
+    mujoco.mj_kinematics(model, data)
+    hip = _id(model, obj.mjOBJ_JOINT, "hip_hind_left")
+    return HorseLayout(
+        curves=curves,
+        curve_actuators=MappingProxyType(curve_actuators),
+        curve_qpos=MappingProxyType(curve_qpos),
+        curve_dofs=MappingProxyType(curve_dofs),
+        curve_limbs=MappingProxyType(limbs_of),
+        actuator_joint=tuple(act_joint),
+        actuator_curve=tuple(act_curve),
+        actuator_curve_index=_frozen(np.array([curves.index(c) for c in act_curve])),
+        actuator_limb=tuple(act_limb),
+        actuator_qpos=_frozen(act_qpos),
+        actuator_dof=_frozen(act_dof),
+        ctrl_low=_frozen(model.actuator_ctrlrange[:, 0]),
+        ctrl_high=_frozen(model.actuator_ctrlrange[:, 1]),
+        hoof_geoms=MappingProxyType({limb: _id(model, obj.mjOBJ_GEOM, f"hoof_{limb}") for limb in LIMBS}),
+        hoof_touch=MappingProxyType({limb: sensors[f"hoof_{limb}"].start for limb in LIMBS}),
+        trunk_body=_id(model, obj.mjOBJ_BODY, "trunk"),
+        trunk_geom=_id(model, obj.mjOBJ_GEOM, "trunk"),
+        head_geom=_id(model, obj.mjOBJ_GEOM, "head"),
+        floor_geom=_id(model, obj.mjOBJ_GEOM, "floor"),
+        sensors=MappingProxyType(sensors),
+        neutral_ctrl=_frozen(ctrl),
+        stand_qpos=_frozen(stand_qpos),
+        standing_height=float(stand_qpos[2]),
+        hip_height=float(data.xanchor[hip][2]),
+        total_mass=float(model.body_subtreemass[0]),
+        timestep=float(model.opt.timestep),
+    )
+
+
+@cache
+def horse_layout() -> HorseLayout:
+    """The layout of :func:`load_model`'s horse (computed once per process)."""
+    return build_layout(_master_model())

@@ -1,0 +1,149 @@
+"""The mujoco-horse backend: targets, controls, metrics, statuses, determinism."""
+
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gaitgram.backends.api import WORST_FITNESS, GaitStatus
+from gaitgram.backends.mujoco_horse import CATALOGUE
+from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator, HorseSettings
+from gaitgram.backends.mujoco_horse.task import duty_factor_for, walk_targets
+from gaitgram.backends.registry import get_backend
+from gaitgram.motion.gait import motion_batch
+
+JOINTS = CATALOGUE.names
+#: Gentle limb swings: the horse shuffles, lifting its hooves, without falling.
+WALKISH = {
+    "shoulder_fore": "5*sin(2*PI*t)",
+    "elbow_fore": "10*sin(2*PI*t+1)+5",
+    "carpal_fore": "10*sin(2*PI*t+1.5)+7.5",
+    "hip_hind": "5*sin(2*PI*t)",
+    "stifle_hind": "7.5*sin(2*PI*t+1)+2.5",
+    "tarsal_hind": "7.5*sin(2*PI*t+1.5)+5",
+}
+#: Hind limbs folded hard: the hindquarters come down.
+COLLAPSE = {"hip_hind": "40", "stifle_hind": "60", "tarsal_hind": "60", "fetlock_hind": "60"}
+
+
+@pytest.fixture(scope="module")
+def evaluator() -> HorseEvaluator:
+    ev = HorseEvaluator(HorseSettings(threads=2))
+    yield ev
+    ev.close()
+
+
+def test_targets_from_the_froude_number() -> None:
+    t = walk_targets(0.48, 1.14)
+    assert t.velocity == pytest.approx(0.48 * math.sqrt(9.81 * 1.14))
+    assert t.stride_length == pytest.approx(1.14 * 2.3 * (0.48**2) ** 0.3)
+    assert t.stride_frequency == pytest.approx(t.velocity / t.stride_length)
+    # A horse's walk: 1.35-2.05 m/s, strides 1.6-1.9 m at about 0.9 Hz, duty factor 0.6-0.65.
+    assert 1.35 < t.velocity < 2.05
+    assert 1.6 < t.stride_length < 1.9
+    assert 0.8 < t.stride_frequency < 1.0
+    assert 0.6 < t.duty_factor < 0.66
+    assert duty_factor_for(0.0) == 0.75
+    assert duty_factor_for(1.0) == 0.45
+    assert t.phase_offsets == {"hind_left": 0.0, "fore_left": 0.25, "hind_right": 0.5, "fore_right": 0.75}
+    with pytest.raises(ValueError, match="froude"):
+        walk_targets(0)
+
+
+def test_controls_follow_the_curves_with_limb_phases(evaluator: HorseEvaluator) -> None:
+    batch = motion_batch([{"hip_hind": "10*sin(2*PI*t)"}], JOINTS)
+    control = evaluator.controls(batch, np.array([0]))[0]  # [steps, actuators]
+    layout = evaluator.layout
+    left, right = layout.curve_actuators["hip_hind"]
+    after_ramp = slice(evaluator.ramp_steps, None)
+    offset_left = control[after_ramp, left] - layout.neutral_ctrl[left]
+    offset_right = control[after_ramp, right] - layout.neutral_ctrl[right]
+    assert np.abs(offset_left).max() == pytest.approx(math.radians(10), rel=1e-3)
+    # Right hind is half a cycle after left hind: its curve is the left one negated.
+    np.testing.assert_allclose(offset_right, -offset_left, atol=1e-3)
+    neck = layout.curve_actuators["neck_mid"][0]
+    np.testing.assert_allclose(control[:, neck], layout.neutral_ctrl[neck])  # undriven: neutral
+    assert (control[: evaluator.ramp_steps // 4, left] - layout.neutral_ctrl[left]).max() < math.radians(3)
+
+
+def test_standing_walking_and_falling_are_told_apart(evaluator: HorseEvaluator) -> None:
+    batch = motion_batch([{}, WALKISH, COLLAPSE, None, {"hip_hind": "1/(t-t)"}], JOINTS)
+    stand, walk, fall, invalid, bad = evaluator.evaluate(batch)
+    assert stand.status is GaitStatus.OK
+    assert abs(stand.components["measured_velocity"]) < 0.02
+    assert stand.components["measured_duty_factor"] == pytest.approx(1.0)
+    assert walk.status is GaitStatus.OK
+    assert walk.components["measured_duty_factor"] < 0.95  # hooves leave the ground
+    assert fall.status in (GaitStatus.FELL, GaitStatus.FLIPPED)
+    assert fall.fitness == WORST_FITNESS
+    assert stand.fitness < fall.fitness
+    assert invalid.status is GaitStatus.INVALID_GENOME
+    assert bad.status is GaitStatus.INVALID_MOTION
+    assert {"velocity", "duty_factor", "stride", "energy"} <= walk.components.keys()
+
+
+def test_same_batch_same_results_with_one_and_two_threads() -> None:
+    rng = np.random.default_rng(4)
+    gaits = [
+        {j: f"{rng.uniform(-15, 15):.2f}*sin(2*PI*t+{rng.uniform(0, 6):.2f})" for j in JOINTS}
+        for _ in range(6)
+    ]
+    batch = motion_batch(gaits, JOINTS)
+    one, two = (
+        HorseEvaluator(HorseSettings(threads=1, cycles=1)),
+        HorseEvaluator(HorseSettings(threads=2, cycles=1)),
+    )
+    try:
+        assert [e.as_record() for e in one.evaluate(batch)] == [e.as_record() for e in two.evaluate(batch)]
+    finally:
+        one.close()
+        two.close()
+
+
+def test_weights_change_the_fitness_not_the_components(evaluator: HorseEvaluator) -> None:
+    batch = motion_batch([WALKISH], JOINTS)
+    (default,) = evaluator.evaluate(batch)
+    (energy_only,) = evaluator.evaluate(batch, weights={"energy": 1.0})
+    assert default.components == energy_only.components
+    assert energy_only.fitness == pytest.approx(default.components["energy"])
+
+
+def test_settings_are_validated() -> None:
+    with pytest.raises(ValueError, match="unknown mujoco-horse setting"):
+        get_backend("mujoco-horse").load({"frode": 0.3})
+    with pytest.raises(ValueError, match="cycles"):
+        HorseSettings.from_mapping({"cycles": 0})
+
+
+def test_render_writes_a_gif_and_a_strip(tmp_path: Path) -> None:
+    grammar = Path(__file__).resolve().parents[2] / "grammars" / "sine-walk.gg"
+    env = {**os.environ, "MUJOCO_GL": "egl"}
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "gaitgram",
+            "render",
+            str(grammar),
+            "--genome",
+            "5,17,3,99,1000,42,7,8,9,10,11,12,13",
+            "--max-wraps",
+            "10",
+            "-o",
+            str(tmp_path / "walk.gif"),
+            "--fps",
+            "5",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
+    assert run.returncode == 0, run.stderr
+    assert (tmp_path / "walk.gif").read_bytes()[:6] == b"GIF89a"
+    assert (tmp_path / "walk.png").read_bytes()[:4] == b"\x89PNG"
