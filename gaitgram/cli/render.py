@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 from pathlib import Path
 from typing import Annotated
@@ -14,8 +15,11 @@ from gaitgram.ge import CodonMode, compile_mapper
 
 
 def command(
-    grammar: Annotated[Path, typer.Argument(help="The grammar.", show_default=False)],
     output: Annotated[Path, typer.Option("--output", "-o", help="walk.gif, or walk.mp4 with ffmpeg.")],
+    grammar: Annotated[Path | None, typer.Argument(help="The grammar (not needed with --run).")] = None,
+    run: Annotated[
+        Path | None, typer.Option("--run", help="Render the best gait of this `gaitgram evolve` directory.")
+    ] = None,
     genome: Annotated[str | None, typer.Option(help="Codons, e.g. 12,7,301.")] = None,
     genome_file: Annotated[
         Path | None, typer.Option(help="Read the codons from a file; - for stdin.")
@@ -29,7 +33,12 @@ def command(
 ) -> None:
     """Render the gait of a genome on the mujoco-horse backend offscreen (MUJOCO_GL=egl by default)."""
     os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is imported
-    codon_values = read_genome(genome, genome_file)
+    if run is not None:
+        grammar, codon_values = _best_of_run(run)
+    elif grammar is None:
+        raise typer.BadParameter("give a grammar and a genome, or --run DIR", param_hint="GRAMMAR")
+    else:
+        codon_values = read_genome(genome, genome_file)
     checked = load_usable(grammar, parse_defines(defines))
     strip = strip or output.with_suffix(".png")
     for path in (output, strip):
@@ -62,3 +71,17 @@ def command(
     finally:
         evaluator.close()
     err.print(f"wrote {output} ({len(frames)} frames) and {strip}")
+
+
+def _best_of_run(directory: Path) -> tuple[Path, tuple[int, ...]]:
+    """The run directory's grammar and the genome of its best individual over all runs."""
+    bests = []
+    for path in sorted(directory.glob("run-*/best.json")):
+        try:
+            record = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, json.JSONDecodeError) as error:
+            raise typer.BadParameter(f"{path}: cannot read: {error}", param_hint="--run") from None
+        bests.append((record["fitness"], tuple(record["genome"])))
+    if not bests or not (directory / "grammar.gg").exists():
+        raise typer.BadParameter(f"{directory} is not a `gaitgram evolve` run directory", param_hint="--run")
+    return directory / "grammar.gg", min(bests)[1]

@@ -147,3 +147,24 @@ def test_render_writes_a_gif_and_a_strip(tmp_path: Path) -> None:
     assert run.returncode == 0, run.stderr
     assert (tmp_path / "walk.gif").read_bytes()[:6] == b"GIF89a"
     assert (tmp_path / "walk.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_render_the_best_of_a_run(tmp_path: Path) -> None:
+    grammar = Path(__file__).resolve().parents[2] / "grammars" / "sine-walk.gg"
+    env = {**os.environ, "MUJOCO_GL": "egl", "COLUMNS": "300"}  # usage errors unwrapped
+
+    def gaitgram(*args: str) -> subprocess.CompletedProcess[str]:
+        return subprocess.run(
+            [sys.executable, "-m", "gaitgram", *args], capture_output=True, text=True, env=env
+        )
+
+    evolve = gaitgram(
+        "evolve", str(grammar), "--generations", "1", "--population", "8", "-o", str(tmp_path / "r"), "-q"
+    )
+    assert evolve.returncode == 0, evolve.stderr
+    render = gaitgram("render", "--run", str(tmp_path / "r"), "-o", str(tmp_path / "best.gif"), "--fps", "4")
+    assert render.returncode == 0, render.stderr
+    assert (tmp_path / "best.gif").stat().st_size > 1000
+    missing = gaitgram("render", "--run", str(tmp_path), "-o", str(tmp_path / "x.gif"))
+    assert missing.returncode == 2
+    assert "not a `gaitgram evolve` run directory" in missing.stderr
