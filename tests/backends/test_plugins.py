@@ -37,6 +37,7 @@ def plugin_env(tmp_path: Path) -> dict[str, str]:
     (info / "METADATA").write_text("Metadata-Version: 2.1\nName: gaitgram-example-backend\nVersion: 0.1.0\n")
     (info / "entry_points.txt").write_text(
         "[gaitgram.backends]\nneck-swing = gaitgram_example_backend:BACKEND\n"
+        "crash-once = gaitgram_example_backend.crash_once:BACKEND\n"
     )
     path = os.pathsep.join([str(tmp_path), str(EXAMPLE), os.environ.get("PYTHONPATH", "")])
     return {**os.environ, "PYTHONPATH": path}
@@ -81,3 +82,22 @@ def test_unknown_backend_is_a_clear_error(tmp_path: Path) -> None:
     assert run.returncode != 0
     assert "GG501" in run.stderr or "no backend named 'neck-swing'" in run.stderr
     assert "Traceback" not in run.stderr
+
+
+def test_a_lost_dask_worker_is_retried(plugin_env: dict[str, str], tmp_path: Path) -> None:
+    pytest.importorskip("distributed", reason="Dask is an optional extra; the dev extra installs it")
+    (tmp_path / "g.gg").write_text("<g> ::= <hip>\n@joint hip\n<hip> ::= int[0..20]*sin(2*PI*t)\n")
+    marker = tmp_path / "crashed"
+    settings = f'[backend_settings]\nmarker = "{marker}"\n[backend_settings.targets]\nhip = "7*sin(2*PI*t)"\n'
+    config = tmp_path / "run.toml"
+    config.write_text(f'generations = 3\npopulation = 12\nelite = 1\nbackend = "crash-once"\n{settings}')
+    lost = gaitgram(
+        plugin_env, "evolve", "g.gg", "-c", str(config), "-o", "dask", "-q", "--dask-local", "2", cwd=tmp_path
+    )
+    assert lost.returncode == 0, lost.stderr
+    assert marker.exists()  # a worker really died
+    local = gaitgram(plugin_env, "evolve", "g.gg", "-c", str(config), "-o", "local", "-q", cwd=tmp_path)
+    assert local.returncode == 0, local.stderr
+    assert (tmp_path / "dask/run-000/stats.csv").read_text() == (
+        tmp_path / "local/run-000/stats.csv"
+    ).read_text()

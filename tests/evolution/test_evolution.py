@@ -230,3 +230,21 @@ def test_dask_local_cluster_gives_the_local_result(tmp_path: Path) -> None:
     assert (tmp_path / "local/run-000/stats.csv").read_text() == (
         tmp_path / "dask/run-000/stats.csv"
     ).read_text()
+
+
+def test_mujoco_runs_give_the_same_statistics_with_one_and_two_threads(tmp_path: Path) -> None:
+    grammar = Path(__file__).resolve().parents[2] / "grammars" / "sine-walk.gg"
+    config = tmp_path / "run.toml"
+    config.write_text(
+        "generations = 2\npopulation = 8\nelite = 1\ninit_max_depth = 6\n\n"
+        "[backend_settings]\ncycles = 1\nramp_seconds = 0.2\n"
+    )
+    stats = []
+    for threads in ("1", "2"):
+        out = tmp_path / f"t{threads}"
+        result = runner.invoke(
+            app, ["evolve", str(grammar), "-c", str(config), "--threads", threads, "-o", str(out), "-q"]
+        )
+        assert result.exit_code == 0, result.stderr
+        stats.append((out / "run-000" / "stats.csv").read_text())
+    assert stats[0] == stats[1]
