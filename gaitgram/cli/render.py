@@ -33,6 +33,11 @@ def command(
 ) -> None:
     """Render the gait of a genome on the mujoco-horse backend offscreen (MUJOCO_GL=egl by default)."""
     os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is imported
+    try:
+        import PIL  # noqa: F401
+    except ImportError:
+        err.print("error: rendering needs Pillow: pip install 'gaitgram[plot]'", style="bold red")
+        raise typer.Exit(2) from None
     if run is not None:
         grammar, codon_values = _best_of_run(run)
     elif grammar is None:

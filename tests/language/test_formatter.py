@@ -50,6 +50,10 @@ def test_comments_are_kept() -> None:
         assert comment in formatted
 
 
+def test_trailing_spaces_in_a_bad_annotation_argument() -> None:
+    assert format_text("@start' ::= ") == "@start ' ::=\n"  # found by hypothesis in CI
+
+
 def test_syntax_errors_are_refused() -> None:
     with pytest.raises(FormatRefused) as refused:
         format_text("<a> ::= 'unterminated\n")
