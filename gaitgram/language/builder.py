@@ -42,7 +42,7 @@ from gaitgram.language.model import (
     Symbol,
     Terminal,
 )
-from gaitgram.language.parser import scanner
+from gaitgram.language.parser import scanner, tree_end, tree_start
 from gaitgram.language.ranges import MAX_RANGE_VALUES, parse_range
 from gaitgram.language.source import SourceText, Span
 
@@ -227,13 +227,13 @@ class _Builder:
                 argument = self._argument(child)
                 if argument is not None:
                     arguments.append(argument)
-                end = _tree_end(child)
+                end = tree_end(child)
             elif child.type not in ("WS", "NEWLINE", "COMMENT", "PIECES"):
                 end = child.end_pos
         return Annotation(head[head.index("@") + 1 :], tuple(arguments), Span(at, end), name_span)
 
     def _argument(self, tree: Tree) -> Argument | None:
-        span = Span(_tree_start(tree), _tree_end(tree))
+        span = Span(tree_start(tree), tree_end(tree))
         raw = self.source.text[span.start : span.end]
         if tree.data == "bad_argument":
             self.problems.append(
@@ -542,16 +542,6 @@ def _number(token: Token) -> int | float:
         return int(text)
     except ValueError:
         return float(text)
-
-
-def _tree_start(tree: Tree) -> int:
-    first = tree.children[0]
-    return first.start_pos if isinstance(first, Token) else _tree_start(first)
-
-
-def _tree_end(tree: Tree) -> int:
-    last = tree.children[-1]
-    return last.end_pos if isinstance(last, Token) else _tree_end(last)
 
 
 def _shorten(text: str, limit: int = 40) -> str:

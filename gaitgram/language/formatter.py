@@ -23,7 +23,7 @@ from gaitgram.diagnostics import Diagnostic
 from gaitgram.language import parse
 from gaitgram.language.lexer import Piece
 from gaitgram.language.model import Grammar
-from gaitgram.language.parser import parse_tree, scanner
+from gaitgram.language.parser import parse_tree, scanner, tree_end, tree_start
 from gaitgram.language.source import SourceText
 
 __all__ = ["FormatError", "FormatRefused", "format_text"]
@@ -155,7 +155,7 @@ def _annotation(text: str, tree: Tree) -> list[_Element]:
     tail: list[_Element] = []
     for child in tree.children[1:]:
         if isinstance(child, Tree):
-            parts.append(text[_start(child) : _end(child)])
+            parts.append(text[tree_start(child) : tree_end(child)])
         elif child.type == "COMMENT":
             comment = str(child).rstrip()
         elif child.type == "NEWLINE":
@@ -218,16 +218,6 @@ def _merge_breaks(elements: list[_Element]) -> list[_Element]:
         else:
             merged.append(element)
     return merged
-
-
-def _start(tree: Tree) -> int:
-    first = tree.children[0]
-    return first.start_pos if isinstance(first, Token) else _start(first)
-
-
-def _end(tree: Tree) -> int:
-    last = tree.children[-1]
-    return last.end_pos if isinstance(last, Token) else _end(last)
 
 
 # ---- layout elements -> text ----------------------------------------------------------------

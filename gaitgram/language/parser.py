@@ -5,7 +5,7 @@ from __future__ import annotations
 from functools import cache
 from importlib.resources import files
 
-from lark import Lark, Tree
+from lark import Lark, Token, Tree
 
 from gaitgram.language.lexer import GgLexer, KeepScannerTerminals, Scanner
 
@@ -41,3 +41,16 @@ def range_parser() -> Lark:
 def parse_tree(text: str) -> Tree:
     """Parse a whole document. The grammar is total, so this does not fail on bad input."""
     return document_parser().parse(text)
+
+
+def tree_start(tree: Tree) -> int:
+    """Offset of a subtree's first token."""
+    while not isinstance(tree, Token):
+        tree = tree.children[0]
+    return tree.start_pos
+
+
+def tree_end(tree: Tree) -> int:
+    while not isinstance(tree, Token):
+        tree = tree.children[-1]
+    return tree.end_pos
