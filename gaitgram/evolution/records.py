@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from gaitgram.ge.visualise import ascii_tree
+from gaitgram.motion.gait import sampled_curve
 
 if TYPE_CHECKING:
     from gaitgram.evolution.engine import Problem, RunState
@@ -38,12 +39,23 @@ def best_record(problem: Problem, state: RunState) -> dict[str, Any]:
         "used_codons": best.used_codons,
         "phenotype": best.phenotype,
         "joints": dict(best.joints),
+        # Each curve in degrees at phases k / CURVE_SAMPLES (null if it cannot be sampled).
+        "curves": {joint: _curve(text) for joint, text in best.joints.items()},
         "fitness": best.fitness,
         "status": best.evaluation.status.value,
         "components": dict(best.evaluation.components),
         "detail": best.evaluation.detail,
         "derivation": ascii_tree(derivation),
     }
+
+
+#: Samples per cycle of the curves written with the best individual: enough to plot, small to store.
+CURVE_SAMPLES = 64
+
+
+def _curve(text: str) -> list[float] | None:
+    values, problem, _ = sampled_curve(text, CURVE_SAMPLES)
+    return None if problem is not None else [round(float(v), 6) for v in values]
 
 
 def write_run_records(run_dir: Path, problem: Problem, state: RunState) -> None:

@@ -122,6 +122,8 @@ def test_run_directory_records(tmp_path: Path) -> None:
     best = json.loads((out / "run-000" / "best.json").read_text())
     assert {"genome", "phenotype", "joints", "fitness", "components", "derivation", "status"} <= best.keys()
     assert best["fitness"] == min(x["best"] for x in lines)
+    assert set(best["curves"]) == {"hip_hind", "elbow_fore"}
+    assert len(best["curves"]["elbow_fore"]) == 64
     summary = json.loads((out / "summary.json").read_text())
     assert len(summary["runs"]) == 2
     assert summary["runs"][0]["best_fitness"] != summary["runs"][1]["best_fitness"]  # derived seeds differ
