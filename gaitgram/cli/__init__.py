@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import typer
 
-from gaitgram.cli import check, compile, evaluate, evolve, fmt, map, render, report, sample
+from gaitgram.cli import check, compile, evaluate, evolve, fmt, map, plot, render, report, sample, seed
 
 app = typer.Typer(
     name="gaitgram",
@@ -28,6 +28,8 @@ app.command("evolve")(evolve.command)
 app.command("report")(report.command)
 app.command("evaluate")(evaluate.command)
 app.command("render")(render.command)
+app.add_typer(seed.app, name="seed")
+app.command("plot")(plot.command)
 
 
 def main() -> None:

@@ -168,3 +168,36 @@ def test_render_the_best_of_a_run(tmp_path: Path) -> None:
     missing = gaitgram("render", "--run", str(tmp_path), "-o", str(tmp_path / "x.gif"))
     assert missing.returncode == 2
     assert "not a `gaitgram evolve` run directory" in missing.stderr
+
+
+def test_ten_thousand_random_free_grammar_phenotypes_are_all_scored() -> None:
+    """Fig. 5's free grammar makes wild curves (divisions, huge values): none may break a batch.
+
+    A short simulation (one cycle) keeps this to seconds; the code path is the full one.
+    """
+    from gaitgram.analysis import check
+    from gaitgram.ge import compile_mapper
+    from gaitgram.ge.initialisation import ramped_population
+    from gaitgram.language import load
+
+    checked = check(load(Path(__file__).resolve().parents[2] / "grammars" / "free.gg"))
+    assert not checked.errors
+    mapper = compile_mapper(checked.grammar, max_wraps=0)
+    trees = ramped_population(checked.facts, np.random.default_rng(11), 10_000, max_depth=7)
+    phenotypes = [m.joints for m in mapper.map_many([t.genome for t in trees])]
+    assert all(phenotypes)  # 10,000 valid derivations: every one a phenotype
+    evaluator = HorseEvaluator(HorseSettings(cycles=1, ramp_seconds=0.1, threads=2))
+    statuses: dict[GaitStatus, int] = {}
+    try:
+        for start in range(0, len(phenotypes), 1000):
+            batch = motion_batch(phenotypes[start : start + 1000], JOINTS)
+            results = evaluator.evaluate(batch)
+            assert len(results) == len(batch)
+            for result in results:
+                assert math.isfinite(result.fitness)
+                statuses[result.status] = statuses.get(result.status, 0) + 1
+    finally:
+        evaluator.close()
+    assert sum(statuses.values()) == 10_000
+    assert statuses.get(GaitStatus.OK, 0) > 0
+    assert statuses.get(GaitStatus.INVALID_MOTION, 0) > 0  # Fig. 5 divides by zero now and then

@@ -1,0 +1,51 @@
+"""``gaitgram plot``: the joint-angle curves of a genome, beside the seed."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from gaitgram.cli.common import err, load_usable, read_genome
+from gaitgram.cli.options import Defines, parse_defines
+from gaitgram.ge import CodonMode, compile_mapper
+
+
+def command(
+    grammar: Annotated[Path, typer.Argument(help="The grammar.", show_default=False)],
+    output: Annotated[Path, typer.Option("--output", "-o", help="curves.png or curves.svg.")],
+    genome: Annotated[str | None, typer.Option(help="Codons, e.g. 12,7,301.")] = None,
+    genome_file: Annotated[Path | None, typer.Option(help="Codons from a file; - for stdin.")] = None,
+    seed: Annotated[bool, typer.Option(help="Draw the bundled seed curves dashed.")] = True,
+    codons: Annotated[CodonMode, typer.Option(help="lazy or eager codon consumption.")] = CodonMode.LAZY,
+    max_wraps: Annotated[int, typer.Option(min=0)] = 3,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite OUTPUT.")] = False,
+    defines: Defines = None,
+) -> None:
+    """Plot each joint's curve over one cycle (one panel per joint), the seed dashed beside it."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        err.print("error: plots need matplotlib: pip install 'gaitgram[plot]'", style="bold red")
+        raise typer.Exit(2) from None
+    if output.suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise typer.BadParameter("the output must end in .png, .svg or .pdf", param_hint="--output")
+    if output.exists() and not force:
+        err.print(f"error: {output} exists; pass --force to overwrite it", style="bold red")
+        raise typer.Exit(2)
+    codon_values = read_genome(genome, genome_file)
+    checked = load_usable(grammar, parse_defines(defines))
+    derivation = compile_mapper(checked.grammar, codons=codons, max_wraps=max_wraps).map(codon_values)
+    if not derivation.valid:
+        err.print(f"error: the genome is invalid ({derivation.reason}); nothing to plot", style="bold red")
+        raise typer.Exit(1)
+    from gaitgram.motion.plot import curves_figure
+    from gaitgram.seed import load_seed
+
+    joints = [j.joint for j in checked.grammar.joints] or list(derivation.joints)
+    figure = curves_figure(
+        joints, derivation.joints, load_seed().angles if seed else None, title=grammar.name
+    )
+    figure.savefig(output, dpi=110)
+    err.print(f"wrote {output}")

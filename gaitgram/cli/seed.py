@@ -1,0 +1,89 @@
+"""``gaitgram seed``: the paper's Fourier analysis of seed data, and grammars written from it."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+
+from gaitgram.cli.common import err
+from gaitgram.seed import SeedError, load_seed, read_seed_csv
+from gaitgram.seed.grammars import Style, fit_seed, write_grammar
+
+app = typer.Typer(
+    help="Seed data: Fourier analysis and grammars in the paper's styles.", no_args_is_help=True
+)
+
+
+def _seed(path: Path | None):
+    try:
+        return read_seed_csv(path) if path is not None else load_seed()
+    except SeedError as error:
+        err.print(f"error: {error}", style="bold red")
+        raise typer.Exit(2) from None
+
+
+@app.command("fit")
+def fit(
+    csv: Annotated[Path | None, typer.Argument(help="Seed CSV [the bundled walk].")] = None,
+    threshold: Annotated[float, typer.Option(min=0, help="Drop terms with a smaller amplitude.")] = 1.0,
+    as_json: Annotated[bool, typer.Option("--json", help="One JSON object per joint.")] = False,
+) -> None:
+    """Decompose each joint's curve into a sum of sines and print it as grammar rules, with the
+    reconstruction error of the written text."""
+    seed = _seed(csv)
+    try:
+        fits = fit_seed(seed, threshold)
+    except ValueError as error:
+        err.print(f"error: {error}", style="bold red")
+        raise typer.Exit(2) from None
+    out = Console(highlight=False, soft_wrap=True)
+    for joint, result in fits.items():
+        if as_json:
+            out.out(
+                json.dumps(
+                    {
+                        "joint": joint,
+                        "text": result.text,
+                        "terms": len(result.terms),
+                        "dropped": len(result.dropped),
+                        "rms_error": result.rms_error,
+                        "max_error": result.max_error,
+                    }
+                )
+            )
+        else:
+            out.out(
+                f"<seed_{joint}> ::= {result.text}  "
+                f"# rms {result.rms_error:.3f}, max {result.max_error:.3f}, "
+                f"{len(result.terms)} terms kept, {len(result.dropped)} dropped"
+            )
+
+
+@app.command("grammar")
+def grammar(
+    style: Annotated[Style, typer.Option(help="One of the paper's grammar styles.")],
+    output: Annotated[
+        Path | None, typer.Option("--output", "-o", help="Write here [standard output].")
+    ] = None,
+    seed_csv: Annotated[Path | None, typer.Option("--seed", help="Seed CSV [the bundled walk].")] = None,
+    threshold: Annotated[
+        float, typer.Option(min=0, help="Fourier terms under this amplitude are dropped.")
+    ] = 1.0,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite OUTPUT.")] = False,
+) -> None:
+    """Write a grammar from the seed in one of the paper's styles."""
+    seed = _seed(seed_csv)
+    command = f"gaitgram seed grammar --style {style.value}" + (f" -o {output}" if output else "")
+    text = write_grammar(style, seed, threshold=threshold, command=command)
+    if output is None:
+        typer.echo(text, nl=False)
+        return
+    if output.exists() and not force:
+        err.print(f"error: {output} exists; pass --force to overwrite it", style="bold red")
+        raise typer.Exit(2)
+    output.write_text(text, encoding="utf-8")
+    err.print(f"wrote {output}")

@@ -1,0 +1,149 @@
+"""The seed data, its Fourier analysis, the six grammar styles, and the commands."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from conftest import GRAMMARS, ROOT
+from gaitgram.analysis import check
+from gaitgram.backends.mujoco_horse import CATALOGUE
+from gaitgram.cli import app
+from gaitgram.ge import compile_mapper
+from gaitgram.ge.initialisation import random_tree
+from gaitgram.language import load
+from gaitgram.motion import compile_motion, phase_grid
+from gaitgram.seed import SeedError, build_seed, load_seed, read_seed_csv
+from gaitgram.seed.grammars import Style, seed_genome, write_grammar
+
+runner = CliRunner()
+
+
+def test_shipped_csvs_are_the_built_seed() -> None:
+    built = build_seed().to_csv()
+    assert (ROOT / "seeds" / "horse_walk.csv").read_text() == built
+    assert (ROOT / "gaitgram" / "seed" / "horse_walk.csv").read_text() == built
+
+
+def test_seed_curves_are_within_joint_limits_with_published_ranges() -> None:
+    seed = load_seed()
+    assert list(seed.angles) == list(CATALOGUE.names)
+    for joint, values in seed.angles.items():
+        low, high = CATALOGUE.get(joint).limits
+        assert low <= values.min(), joint
+        assert values.max() <= high, joint
+    assert np.ptp(seed.angles["carpal_fore"]) == pytest.approx(54, abs=0.1)
+    assert np.ptp(seed.angles["fetlock_hind"]) == pytest.approx(60, abs=0.1)
+
+
+@pytest.mark.parametrize("style", list(Style))
+def test_shipped_grammars_are_regenerated_exactly_and_pass_strict(style: Style) -> None:
+    path = GRAMMARS / f"{style.value}.gg"
+    command = f"gaitgram seed grammar --style {style.value} -o grammars/{style.value}.gg"
+    assert path.read_text() == write_grammar(style, load_seed(), command=command)
+    result = check(load(path))
+    assert not result.diagnostics, result.diagnostics
+    assert {j.joint for j in result.grammar.joints} == set(CATALOGUE.names)
+
+
+@pytest.mark.parametrize("style", list(Style))
+def test_every_joint_phenotype_compiles(style: Style) -> None:
+    checked = check(load(GRAMMARS / f"{style.value}.gg"))
+    mapper = compile_mapper(checked.grammar, max_wraps=0)
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        tree = random_tree(checked.facts, rng, max_depth=8)
+        mapped = mapper.map_fast(tree.genome)
+        assert mapped.valid
+        assert len(mapped.joints) == 12
+        for joint, text in mapped.joints.items():
+            assert not hasattr(compile_motion(text), "status"), (joint, text)
+
+
+@pytest.mark.parametrize("style", [Style.NUMERICAL, Style.CONCATENATING, Style.HYBRID, Style.JOINT_FREEDOM])
+def test_seed_genome_derives_the_seed(style: Style) -> None:
+    grammar = load(GRAMMARS / f"{style.value}.gg")
+    mapped = compile_mapper(grammar).map_fast(seed_genome(grammar))
+    seed = load_seed()
+    for joint, text in mapped.joints.items():
+        curve = compile_motion(text).evaluate(phase_grid(100)).values
+        assert np.abs(curve - seed.angles[joint]).max() < 0.9, joint  # only sub-threshold terms missing
+
+
+def test_seed_fit_cli() -> None:
+    result = runner.invoke(app, ["seed", "fit"])
+    assert result.exit_code == 0
+    assert "<seed_scapula_fore> ::= 6.97+7.7*sin(1*2*PI*t+1.07)+2.56*sin(2*2*PI*t+2.97)" in result.stdout
+    records = [json.loads(line) for line in runner.invoke(app, ["seed", "fit", "--json"]).stdout.splitlines()]
+    assert len(records) == 12
+    assert all(r["max_error"] < 0.9 for r in records)
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        ("", "empty"),
+        ("time,hip\n0,1\n", "header must be phase"),
+        ("phase,hip\n0,1\n0.5,x\n", ":3: 'x' is not a number"),
+        ("phase,hip\n0,1,2\n", ":2: 3 values"),
+        ("phase,hip\n0,1\n0.5,2\n", "at least 4 samples"),
+        ("phase,hip\n0.5,1\n0.2,2\n0.3,1\n0.4,2\n", "phases must increase"),
+    ],
+)
+def test_bad_seed_csvs(tmp_path: Path, content: str, message: str) -> None:
+    path = tmp_path / "seed.csv"
+    path.write_text(content)
+    with pytest.raises(SeedError, match=message):
+        read_seed_csv(path)
+    result = runner.invoke(app, ["seed", "fit", str(path)])
+    assert result.exit_code == 2
+    assert "error:" in result.stderr
+
+
+def test_seed_grammar_cli_never_overwrites(tmp_path: Path) -> None:
+    out = tmp_path / "h.gg"
+    assert runner.invoke(app, ["seed", "grammar", "--style", "hybrid", "-o", str(out)]).exit_code == 0
+    out.write_text("mine")
+    assert runner.invoke(app, ["seed", "grammar", "--style", "hybrid", "-o", str(out)]).exit_code == 2
+    assert out.read_text() == "mine"
+
+
+def test_plot_writes_png_and_svg(tmp_path: Path) -> None:
+    grammar = load(GRAMMARS / "hybrid.gg")
+    genome = ",".join(map(str, seed_genome(grammar)))
+    for name in ("c.png", "c.svg"):
+        result = runner.invoke(
+            app, ["plot", str(GRAMMARS / "hybrid.gg"), "--genome", genome, "-o", str(tmp_path / name)]
+        )
+        assert result.exit_code == 0, result.stderr
+    assert (tmp_path / "c.png").read_bytes()[:4] == b"\x89PNG"
+    assert "<svg" in (tmp_path / "c.svg").read_text()
+    bad = runner.invoke(
+        app,
+        [
+            "plot",
+            str(GRAMMARS / "hybrid.gg"),
+            "--genome",
+            "1",
+            "--max-wraps",
+            "0",
+            "-o",
+            str(tmp_path / "x.png"),
+        ],
+    )
+    assert bad.exit_code == 1
+
+
+def test_curves_figure_has_a_panel_per_joint_and_shows_errors() -> None:
+    from gaitgram.motion.plot import curves_figure
+
+    figure = curves_figure(
+        list(CATALOGUE.names), {"hip_hind": "10*sin(2*PI*t)", "elbow_fore": "1/0"}, load_seed().angles
+    )
+    assert len(figure.axes) == 12
+    texts = [t.get_text() for ax in figure.axes for t in ax.texts]
+    assert any("division by zero" in t for t in texts)
