@@ -135,34 +135,42 @@ def _numerical(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointC
     return lines
 
 
+def _seed_plus_funcs(
+    joints: list[str],
+    catalogue: JointCatalogue,
+    seed_rules: Mapping[str, str],
+    prefix: str,
+    comment: str,
+    *,
+    freedom: bool = False,
+) -> list[str]:
+    """Fig. 2's shape: each curve is its seed rule, optionally plus concatenated functions."""
+    lines = []
+    for joint in joints:
+        rule = f"<{prefix}_{joint}>"
+        lines += [
+            _joint_annotation(joint, catalogue, freedom=freedom),
+            f"<{joint}> ::= {rule} | {rule}+<funcs>",
+            "",
+        ]
+    lines += _funcs_rules()
+    lines += [comment]
+    lines += [f"<{prefix}_{joint}> ::= {seed_rules[joint]}" for joint in joints]
+    return lines
+
+
 def _concatenating(
     joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue, *, freedom: bool = False
 ) -> list[str]:
-    lines = []
-    for joint in joints:
-        lines += [
-            _joint_annotation(joint, catalogue, freedom=freedom),
-            f"<{joint}> ::= <seed_{joint}> | <seed_{joint}>+<funcs>",
-            "",
-        ]
-    lines += _funcs_rules()
-    lines += ["# The seed: the Fourier analysis of seeds/horse_walk.csv, terms under the threshold dropped."]
-    lines += [f"<seed_{joint}> ::= {fits[joint].text}" for joint in joints]
-    return lines
+    comment = "# The seed: the Fourier analysis of seeds/horse_walk.csv, terms under the threshold dropped."
+    seeds = {joint: fits[joint].text for joint in joints}
+    return _seed_plus_funcs(joints, catalogue, seeds, "seed", comment, freedom=freedom)
 
 
 def _hybrid(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
-    lines = []
-    for joint in joints:
-        lines += [
-            _joint_annotation(joint, catalogue),
-            f"<{joint}> ::= <num_{joint}> | <num_{joint}>+<funcs>",
-            "",
-        ]
-    lines += _funcs_rules()
-    lines += ["# The seed, each number free to move within 25 % of itself."]
-    lines += [f"<num_{joint}> ::= {_numerical_curve(fits[joint])}" for joint in joints]
-    return lines
+    comment = "# The seed, each number free to move within 25 % of itself."
+    seeds = {joint: _numerical_curve(fits[joint]) for joint in joints}
+    return _seed_plus_funcs(joints, catalogue, seeds, "num", comment)
 
 
 def _sinusoidal(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
