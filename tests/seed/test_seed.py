@@ -147,3 +147,31 @@ def test_curves_figure_has_a_panel_per_joint_and_shows_errors() -> None:
     assert len(figure.axes) == 12
     texts = [t.get_text() for ax in figure.axes for t in ax.texts]
     assert any("division by zero" in t for t in texts)
+
+
+def test_seed_fit_output_parses_as_gg_rules() -> None:
+    from gaitgram.language import parse
+
+    output = runner.invoke(app, ["seed", "fit"]).stdout
+    grammar = parse("<all> ::= " + "".join(f"<seed_{j}>" for j in CATALOGUE.names) + "\n" + output)
+    assert not grammar.diagnostics, grammar.diagnostics
+    assert len(grammar.rules) == 13
+
+
+@pytest.mark.parametrize("path", sorted(GRAMMARS.glob("*.gg")), ids=lambda p: p.name)
+def test_bundled_grammars_give_finite_curves(path: Path) -> None:
+    """A few hundred genomes each (sensibly initialised, as evolution starts) to sampled curves."""
+    from gaitgram.ge.initialisation import ramped_population
+    from gaitgram.motion.gait import MotionProblem, motion_batch
+
+    checked = check(load(path))
+    trees = ramped_population(checked.facts, np.random.default_rng(5), 300, max_depth=8)
+    mapped = compile_mapper(checked.grammar, max_wraps=0).map_many([t.genome for t in trees])
+    batch = motion_batch([m.joints for m in mapped], CATALOGUE.names)
+    usable = batch.angles[batch.usable]
+    assert np.isfinite(usable).all()
+    if path.name == "free.gg":  # Fig. 5 divides freely: such curves are flagged, never passed on
+        assert set(batch.problems) <= {None, MotionProblem.INVALID_MOTION, MotionProblem.NON_FINITE}
+        assert batch.usable.sum() > 150
+    else:
+        assert batch.usable.all(), [d for d in batch.details if d]
