@@ -201,3 +201,20 @@ def test_ten_thousand_random_free_grammar_phenotypes_are_all_scored() -> None:
     assert sum(statuses.values()) == 10_000
     assert statuses.get(GaitStatus.OK, 0) > 0
     assert statuses.get(GaitStatus.INVALID_MOTION, 0) > 0  # Fig. 5 divides by zero now and then
+
+
+def test_the_seed_walk_scores_better_than_standing_which_beats_falling(evaluator: HorseEvaluator) -> None:
+    """The ordering that makes the fitness meaningful, on grammars/hybrid.gg's unchanged seed."""
+    from gaitgram.ge import compile_mapper
+    from gaitgram.language import load
+    from gaitgram.seed.grammars import seed_genome
+
+    grammar = load(Path(__file__).resolve().parents[2] / "grammars" / "hybrid.gg")
+    mapped = compile_mapper(grammar).map_fast(seed_genome(grammar))
+    assert mapped.valid
+    seed_walk, standing, falling = evaluator.evaluate(motion_batch([mapped.joints, {}, COLLAPSE], JOINTS))
+    assert seed_walk.status is GaitStatus.OK
+    assert standing.status is GaitStatus.OK
+    assert falling.status in (GaitStatus.FELL, GaitStatus.FLIPPED)
+    assert seed_walk.fitness < standing.fitness < falling.fitness
+    assert seed_walk.components["measured_duty_factor"] < 0.9  # it steps
