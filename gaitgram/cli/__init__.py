@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import typer
 
-from gaitgram.cli import check, compile, evaluate, evolve, fmt, map, plot, render, report, sample, seed
+from gaitgram.cli import check, compile, evaluate, evolve, fmt, map, plot, render, report, sample, seed, test
 
 app = typer.Typer(
     name="gaitgram",
@@ -30,6 +30,7 @@ app.command("evaluate")(evaluate.command)
 app.command("render")(render.command)
 app.add_typer(seed.app, name="seed")
 app.command("plot")(plot.command)
+app.command("test")(test.command)
 
 
 def main() -> None:

@@ -1,0 +1,140 @@
+"""``gaitgram test``: property-based testing of a grammar, with shrunk counterexamples."""
+
+from __future__ import annotations
+
+import importlib.util
+import inspect
+import json
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+from hypothesis import HealthCheck, given, seed, settings
+from rich.console import Console
+
+from gaitgram.cli.common import err, load_usable
+from gaitgram.cli.options import Defines, parse_defines
+from gaitgram.ge import CodonMode, compile_mapper
+from gaitgram.ge.visualise import ascii_tree
+from gaitgram.properties import BUILT_IN, Context, Property
+from gaitgram.testing import derivations
+
+
+class OutputFormat(StrEnum):
+    HUMAN = "human"
+    JSON = "json"
+
+
+def command(
+    grammar: Annotated[Path, typer.Argument(help="The grammar to test.", show_default=False)],
+    examples: Annotated[int, typer.Option(min=1, help="Derivations per property.")] = 100,
+    seed_value: Annotated[int, typer.Option("--seed", help="Random seed: same seed, same examples.")] = 0,
+    max_depth: Annotated[int, typer.Option(min=1, help="Deepest derivation generated.")] = 10,
+    codons: Annotated[CodonMode, typer.Option(help="lazy or eager codon consumption.")] = CodonMode.LAZY,
+    properties: Annotated[Path | None, typer.Option(help="A Python file of property_* functions.")] = None,
+    only: Annotated[
+        list[str] | None, typer.Option("--property", "-p", help="Run only these properties (repeatable).")
+    ] = None,
+    output_format: Annotated[OutputFormat, typer.Option("--format", "-f")] = OutputFormat.HUMAN,
+    defines: Defines = None,
+) -> None:
+    """Check built-in properties (clean mapping, determinism, depth, joint curves compile, are finite and
+    stay within their limits) on generated derivations; report each with a minimal counterexample."""
+    checked = load_usable(grammar, parse_defines(defines))
+    mapper = compile_mapper(checked.grammar, codons=codons, max_wraps=0)
+    context = Context(checked.grammar, mapper, max_depth)
+    chosen: dict[str, Property] = dict(BUILT_IN)
+    if properties is not None:
+        chosen.update(_user_properties(properties))
+    if only:
+        unknown = [name for name in only if name not in chosen]
+        if unknown:
+            raise typer.BadParameter(
+                f"unknown {unknown[0]!r}; known: {', '.join(chosen)}", param_hint="--property"
+            )
+        chosen = {name: chosen[name] for name in only}
+    try:
+        strategy = derivations(checked.grammar, max_depth=max_depth, codons=codons)
+    except ValueError as error:
+        err.print(f"error: {error}", style="bold red")
+        raise typer.Exit(1) from None
+    results = [_run(name, check, strategy, context, examples, seed_value) for name, check in chosen.items()]
+    if output_format is OutputFormat.JSON:
+        typer.echo(json.dumps(results, indent=1))
+    else:
+        out = Console(highlight=False, soft_wrap=True)
+        for result in results:
+            if result["passed"]:
+                out.print(f"[green]passed[/green]  {result['property']}")
+            else:
+                out.print(f"[bold red]FAILED[/bold red]  {result['property']}: {result['reason']}")
+                out.print(f"  genome: {','.join(map(str, result['genome']))}", markup=False)
+                out.print(f"  phenotype: {result['phenotype']}", markup=False)
+                out.print("  derivation:\n" + _indent(result["derivation"]), markup=False)
+    if not all(r["passed"] for r in results):
+        raise typer.Exit(1)
+
+
+def _run(name: str, check: Property, strategy: Any, context: Context, examples: int, seed_value: int) -> dict:
+    failures: list[tuple[Any, str]] = []
+
+    @seed(seed_value)
+    @settings(
+        max_examples=examples,
+        database=None,
+        deadline=None,
+        derandomize=False,
+        suppress_health_check=list(HealthCheck),
+        print_blob=False,
+    )
+    @given(strategy)
+    def test(derivation: Any) -> None:
+        try:
+            check(derivation, context)
+        except AssertionError as failure:
+            failures.append((derivation, str(failure)))
+            raise
+
+    try:
+        test()
+    except AssertionError:
+        derivation, reason = failures[-1]  # hypothesis replays the shrunk example last
+        codons = sorted(
+            (n.codon_index, n.codon) for n, _ in derivation.tree.walk() if n.codon_index is not None
+        )
+        return {
+            "property": name,
+            "passed": False,
+            "reason": reason,
+            "genome": [c for _, c in codons],
+            "phenotype": derivation.phenotype,
+            "derivation": ascii_tree(derivation),
+        }
+    return {"property": name, "passed": True}
+
+
+def _user_properties(path: Path) -> dict[str, Property]:
+    """Functions named property_* in the user's own Python file (their code, not phenotypes)."""
+    spec = importlib.util.spec_from_file_location(f"gaitgram_user_properties_{path.stem}", path)
+    if spec is None or spec.loader is None or not path.exists():
+        raise typer.BadParameter(f"{path}: not a Python file", param_hint="--properties")
+    module = importlib.util.module_from_spec(spec)
+    try:
+        spec.loader.exec_module(module)
+    except Exception as error:  # the user's file: report, don't crash
+        raise typer.BadParameter(
+            f"{path}: {type(error).__name__}: {error}", param_hint="--properties"
+        ) from None
+    found = {
+        name.removeprefix("property_").replace("_", "-"): function
+        for name, function in inspect.getmembers(module, inspect.isfunction)
+        if name.startswith("property_")
+    }
+    if not found:
+        raise typer.BadParameter(f"{path}: no functions named property_*", param_hint="--properties")
+    return found
+
+
+def _indent(text: str) -> str:
+    return "".join(f"    {line}\n" for line in text.splitlines())

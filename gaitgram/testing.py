@@ -1,0 +1,125 @@
+"""Hypothesis strategies for grammars: test your grammar the way you test code.
+
+::
+
+    from hypothesis import given
+    from gaitgram.language import load
+    from gaitgram.testing import derivations
+
+    GRAMMAR = load("grammars/hybrid.gg")
+
+    @given(derivations(GRAMMAR, max_depth=8))
+    def test_every_curve_is_finite(derivation):
+        ...
+
+Derivations are built top-down from drawn choice indices, with the minimum-depth
+analysis keeping every tree within ``max_depth``; choices are ordered shallowest
+first, so failures shrink toward shallow trees and low choice indices, and the
+genome of each derivation is read off its choices (short genomes shrink shorter).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from functools import cache
+
+import numpy as np
+from hypothesis import strategies as st
+
+from gaitgram.analysis import GrammarFacts, analyse
+from gaitgram.ge import CodonMode, Derivation, compile_mapper
+from gaitgram.ge.mapper import Mapper
+from gaitgram.language.model import Grammar
+from gaitgram.motion.gait import sampled_curve
+
+__all__ = ["derivations", "genomes", "motions", "phenotypes"]
+
+#: Codons drawn by ``genomes``: small values shrink best and still select every choice.
+DEFAULT_CODON_SIZE = 1_000
+
+
+@cache
+def _facts(grammar: Grammar) -> GrammarFacts:
+    return analyse(grammar)
+
+
+@cache
+def _mapper(grammar: Grammar, codons: CodonMode, max_wraps: int, max_depth: int | None) -> Mapper:
+    return compile_mapper(grammar, codons=codons, max_wraps=max_wraps, max_depth=max_depth)
+
+
+def genomes(
+    grammar: Grammar | None = None,
+    *,
+    min_size: int = 1,
+    max_size: int = 200,
+    codon_size: int = DEFAULT_CODON_SIZE,
+) -> st.SearchStrategy[tuple[int, ...]]:
+    """Uniform genomes: lists of codons in ``[0, codon_size)``; shrink toward short lists of zeros.
+
+    ``grammar`` is accepted for symmetry with the other strategies; any genome fits any grammar.
+    """
+    return st.lists(st.integers(0, codon_size - 1), min_size=min_size, max_size=max_size).map(tuple)
+
+
+def derivations(
+    grammar: Grammar,
+    *,
+    max_depth: int = 10,
+    codons: CodonMode | str = CodonMode.LAZY,
+    max_wraps: int = 0,
+) -> st.SearchStrategy[Derivation]:
+    """Valid derivations within ``max_depth``, mapped from the genome that encodes them."""
+    mode = CodonMode(codons)
+    facts = _facts(grammar)
+    cfg = facts.cfg
+    if cfg.start is None or facts.min_depth[cfg.start] is None or facts.min_depth[cfg.start] > max_depth:
+        raise ValueError(f"the grammar has no derivation within depth {max_depth}")
+    # Per rule, its choices ordered shallowest first: index 0 is what shrinking aims for.
+    order = [
+        sorted(range(len(depths)), key=lambda c, depths=depths: (depths[c] is None, depths[c] or 0, c))
+        for depths in facts.choice_min_depth
+    ]
+
+    @st.composite
+    def build(draw: st.DrawFn) -> Derivation:
+        genome: list[int] = []
+        stack = [(cfg.start, 1)]
+        while stack:
+            rule, level = stack.pop()
+            room = max_depth - level + 1
+            fitting = [
+                c for c in order[rule] if (d := facts.choice_min_depth[rule][c]) is not None and d <= room
+            ]
+            choice = fitting[draw(st.integers(0, len(fitting) - 1))]
+            n = len(cfg.choices[rule])
+            if n > 1 or mode is CodonMode.EAGER:
+                genome.append(choice)
+            children = [item for item in cfg.choices[rule][choice] if isinstance(item, int)]
+            stack.extend((child, level + 1) for child in reversed(children))
+        return _mapper(grammar, mode, max_wraps, None).map(genome or [0])
+
+    return build()
+
+
+def phenotypes(grammar: Grammar, **options: object) -> st.SearchStrategy[str]:
+    """Phenotype strings of valid derivations (options as for :func:`derivations`)."""
+    return derivations(grammar, **options).map(lambda d: d.phenotype)  # type: ignore[arg-type, return-value]
+
+
+def motions(
+    grammar: Grammar, *, samples: int = 128, **options: object
+) -> st.SearchStrategy[Mapping[str, np.ndarray]]:
+    """Per-joint curves (degrees over one cycle, ``samples`` points) of valid derivations.
+
+    A joint whose phenotype does not compile, or is not finite, maps to an array of NaN.
+    """
+
+    def curves(derivation: Derivation) -> Mapping[str, np.ndarray]:
+        result = {}
+        for joint, text in derivation.joints.items():
+            values, problem, _ = sampled_curve(text, samples)
+            result[joint] = np.full(samples, np.nan) if problem is not None else values
+        return result
+
+    return derivations(grammar, **options).map(curves)  # type: ignore[arg-type]
