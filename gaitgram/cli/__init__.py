@@ -9,7 +9,21 @@ from __future__ import annotations
 
 import typer
 
-from gaitgram.cli import check, compile, evaluate, evolve, fmt, map, plot, render, report, sample, seed, test
+from gaitgram.cli import (
+    check,
+    compile,
+    evaluate,
+    evolve,
+    fmt,
+    lsp,
+    map,
+    plot,
+    render,
+    report,
+    sample,
+    seed,
+    test,
+)
 
 app = typer.Typer(
     name="gaitgram",
@@ -31,6 +45,7 @@ app.command("render")(render.command)
 app.add_typer(seed.app, name="seed")
 app.command("plot")(plot.command)
 app.command("test")(test.command)
+app.command("lsp")(lsp.command)
 
 
 def main() -> None:

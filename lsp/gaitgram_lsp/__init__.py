@@ -1,0 +1,1 @@
+"""The gaitgram language server: editor support for ``.gg`` grammars over the LSP."""

@@ -1,0 +1,3 @@
+from gaitgram_lsp.server import main
+
+main()

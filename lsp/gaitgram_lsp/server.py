@@ -1,0 +1,241 @@
+"""The gaitgram language server: registers features; each handler converts and delegates.
+
+The logic lives in :mod:`gaitgram_lsp.features` (pure functions of the text); here
+only LSP positions (UTF-16 columns) and types are handled.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from lsprotocol import types
+from pygls.lsp.server import LanguageServer
+
+from gaitgram import __version__
+from gaitgram.diagnostics import Severity
+from gaitgram.language.source import SourceText, Span
+from gaitgram_lsp import features
+
+server = LanguageServer("gaitgram-lsp", __version__)
+
+_SEVERITY = {
+    Severity.ERROR: types.DiagnosticSeverity.Error,
+    Severity.WARNING: types.DiagnosticSeverity.Warning,
+    Severity.INFO: types.DiagnosticSeverity.Information,
+}
+_KIND = {
+    "rule": types.CompletionItemKind.Reference,
+    "annotation": types.CompletionItemKind.Keyword,
+    "joint": types.CompletionItemKind.EnumMember,
+    "backend": types.CompletionItemKind.Module,
+}
+
+
+def _utf16(text: str) -> int:
+    return len(text.encode("utf-16-le")) // 2
+
+
+def to_position(source: SourceText, offset: int) -> types.Position:
+    location = source.location(offset)
+    prefix = source.line_text(location.line)[: location.column - 1]
+    return types.Position(line=location.line - 1, character=_utf16(prefix))
+
+
+def to_range(source: SourceText, span: Span) -> types.Range:
+    return types.Range(start=to_position(source, span.start), end=to_position(source, span.end))
+
+
+def from_position(text: str, position: types.Position) -> tuple[int, int]:
+    """(line, code-point column) from an LSP position."""
+    lines = text.split("\n")
+    line = lines[position.line] if position.line < len(lines) else ""
+    units, column = 0, 0
+    for ch in line:
+        if units >= position.character:
+            break
+        units += 2 if ord(ch) > 0xFFFF else 1
+        column += 1
+    return position.line, column
+
+
+def publish(uri: str, version: int | None) -> None:
+    document = server.workspace.get_text_document(uri)
+    result = features.analysed(document.source)
+    source = result.grammar.source
+    diagnostics = [
+        types.Diagnostic(
+            range=to_range(source, d.span),
+            message=d.message + (f"\nhint: {d.hint}" if d.hint else ""),
+            severity=_SEVERITY[d.level],
+            code=d.code.code,
+            source="gaitgram",
+        )
+        for d in result.diagnostics
+    ]
+    if document.version == version or version is None:  # never publish for a superseded version
+        server.text_document_publish_diagnostics(
+            types.PublishDiagnosticsParams(uri=uri, diagnostics=diagnostics, version=version)
+        )
+
+
+@server.feature(types.TEXT_DOCUMENT_DID_OPEN)
+def did_open(ls: LanguageServer, params: types.DidOpenTextDocumentParams) -> None:
+    publish(params.text_document.uri, params.text_document.version)
+
+
+@server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
+def did_change(ls: LanguageServer, params: types.DidChangeTextDocumentParams) -> None:
+    publish(params.text_document.uri, params.text_document.version)
+
+
+@server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=["<", "@", " "]))
+def completion(ls: LanguageServer, params: types.CompletionParams) -> types.CompletionList:
+    text = ls.workspace.get_text_document(params.text_document.uri).source
+    line, column = from_position(text, params.position)
+    items = [
+        types.CompletionItem(label=c.label, kind=_KIND[c.kind], detail=c.detail or None)
+        for c in features.completions(text, line, column)
+    ]
+    return types.CompletionList(is_incomplete=False, items=items)
+
+
+@server.feature(types.TEXT_DOCUMENT_HOVER)
+def hover(ls: LanguageServer, params: types.HoverParams) -> types.Hover | None:
+    text = ls.workspace.get_text_document(params.text_document.uri).source
+    found = features.hover(text, *from_position(text, params.position))
+    if found is None:
+        return None
+    return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=found))
+
+
+@server.feature(types.TEXT_DOCUMENT_DEFINITION)
+def definition(ls: LanguageServer, params: types.DefinitionParams) -> types.Location | None:
+    text = ls.workspace.get_text_document(params.text_document.uri).source
+    span = features.definition(text, *from_position(text, params.position))
+    if span is None:
+        return None
+    source = features.analysed(text).grammar.source
+    return types.Location(uri=params.text_document.uri, range=to_range(source, span))
+
+
+@server.feature(types.TEXT_DOCUMENT_REFERENCES)
+def references(ls: LanguageServer, params: types.ReferenceParams) -> list[types.Location]:
+    text = ls.workspace.get_text_document(params.text_document.uri).source
+    source = features.analysed(text).grammar.source
+    return [
+        types.Location(uri=params.text_document.uri, range=to_range(source, span))
+        for span in features.references(text, *from_position(text, params.position))
+    ]
+
+
+def _text(ls: LanguageServer, uri: str) -> str:
+    return ls.workspace.get_text_document(uri).source
+
+
+def _edit(source: SourceText, span: Span, new_text: str) -> types.TextEdit:
+    return types.TextEdit(range=to_range(source, span), new_text=new_text)
+
+
+@server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
+def document_symbols(ls: LanguageServer, params: types.DocumentSymbolParams) -> list[types.DocumentSymbol]:
+    text = _text(ls, params.text_document.uri)
+    source = features.analysed(text).grammar.source
+    return [
+        types.DocumentSymbol(
+            name=f"<{s.name}>",
+            kind=types.SymbolKind.Function,
+            detail=s.detail,
+            range=to_range(source, s.span),
+            selection_range=to_range(source, s.name_span),
+        )
+        for s in features.document_symbols(text)
+    ]
+
+
+@server.feature(types.TEXT_DOCUMENT_FOLDING_RANGE)
+def folding(ls: LanguageServer, params: types.FoldingRangeParams) -> list[types.FoldingRange]:
+    return [
+        types.FoldingRange(start_line=a, end_line=b)
+        for a, b in features.folding_ranges(_text(ls, params.text_document.uri))
+    ]
+
+
+@server.feature(types.TEXT_DOCUMENT_DOCUMENT_HIGHLIGHT)
+def highlight(ls: LanguageServer, params: types.DocumentHighlightParams) -> list[types.DocumentHighlight]:
+    text = _text(ls, params.text_document.uri)
+    source = features.analysed(text).grammar.source
+    return [
+        types.DocumentHighlight(range=to_range(source, span))
+        for span in features.references(text, *from_position(text, params.position))
+    ]
+
+
+@server.feature(types.TEXT_DOCUMENT_PREPARE_RENAME)
+def prepare_rename(ls: LanguageServer, params: types.PrepareRenameParams) -> types.Range | None:
+    text = _text(ls, params.text_document.uri)
+    span = features.prepare_rename(text, *from_position(text, params.position))
+    return None if span is None else to_range(features.analysed(text).grammar.source, span)
+
+
+@server.feature(types.TEXT_DOCUMENT_RENAME)
+def rename(ls: LanguageServer, params: types.RenameParams) -> types.WorkspaceEdit:
+    text = _text(ls, params.text_document.uri)
+    try:
+        edits = features.rename(text, *from_position(text, params.position), params.new_name)
+    except features.RenameError as error:
+        raise ValueError(str(error)) from None  # pygls reports it to the client as an error response
+    source = features.analysed(text).grammar.source
+    return types.WorkspaceEdit(changes={params.text_document.uri: [_edit(source, s, t) for s, t in edits]})
+
+
+@server.feature(types.TEXT_DOCUMENT_FORMATTING)
+def formatting(ls: LanguageServer, params: types.DocumentFormattingParams) -> list[types.TextEdit]:
+    from gaitgram.language.formatter import FormatError, FormatRefused, format_text
+
+    text = _text(ls, params.text_document.uri)
+    try:
+        formatted = format_text(text)
+    except (FormatRefused, FormatError):
+        return []  # syntax errors: the layout may carry meaning, so change nothing
+    if formatted == text:
+        return []
+    source = SourceText(text)
+    return [_edit(source, Span(0, len(source.text)), formatted)]
+
+
+@server.feature(types.TEXT_DOCUMENT_CODE_ACTION)
+def code_action(ls: LanguageServer, params: types.CodeActionParams) -> list[types.CodeAction]:
+    uri = params.text_document.uri
+    text = _text(ls, uri)
+    source = features.analysed(text).grammar.source
+    start = source.offset(*[v + 1 for v in from_position(text, params.range.start)])
+    end = source.offset(*[v + 1 for v in from_position(text, params.range.end)])
+    return [
+        types.CodeAction(
+            title=fix.title,
+            kind=types.CodeActionKind.QuickFix,
+            edit=types.WorkspaceEdit(changes={uri: [_edit(source, s, t) for s, t in fix.edits]}),
+        )
+        for fix in features.code_actions(text, start, end)
+    ]
+
+
+@server.feature(types.TEXT_DOCUMENT_INLAY_HINT)
+def inlay_hint(ls: LanguageServer, params: types.InlayHintParams) -> list[types.InlayHint]:
+    text = _text(ls, params.text_document.uri)
+    source = features.analysed(text).grammar.source
+    return [
+        types.InlayHint(position=to_position(source, offset), label=label)
+        for offset, label in features.inlay_hints(text)
+    ]
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(prog="gaitgram-lsp", description="The gaitgram language server.")
+    parser.add_argument("--tcp", metavar="HOST:PORT", help="listen on TCP instead of stdio")
+    args = parser.parse_args(argv)
+    if args.tcp:
+        host, _, port = args.tcp.rpartition(":")
+        server.start_tcp(host or "127.0.0.1", int(port))
+    else:
+        server.start_io()
