@@ -35,12 +35,16 @@ def offset_of(result: CheckResult, line: int, column: int) -> int:
     return result.grammar.source.offset(line + 1, column + 1)
 
 
-def completions(text: str, line: int, column: int) -> list[Completion]:
+def completions(text: str, line: int, column: int, model: CheckResult | None = None) -> list[Completion]:
     """Context-aware: annotation names after ``@``, joints after ``@joint``, backends after
-    ``@backend``, rule names inside a right-hand side (never where a rule's name is typed)."""
-    result = analysed(text)
-    source = result.grammar.source
-    before = source.line_text(line + 1)[:column] if line + 1 <= source.line_count else ""
+    ``@backend``, rule names inside a right-hand side (never where a rule's name is typed).
+
+    ``model`` may be the last analysis of an earlier version of the text: completion must
+    not wait for a large document to be re-checked after every keystroke.
+    """
+    result = model or analysed(text)
+    lines = text.split("\n")
+    before = lines[line][:column] if line < len(lines) else ""
     if re.fullmatch(r"\s*@[\w-]*", before):
         return [
             Completion(name, "annotation", f"{kind.summary} e.g. {kind.example}")
@@ -55,8 +59,12 @@ def completions(text: str, line: int, column: int) -> list[Completion]:
         return [Completion(name, "backend") for name in backend_names()]
     if "::=" not in before and not re.search(r"[|]", before) and before.lstrip().startswith("<"):
         return []  # a new rule's name is being typed
+    typed = re.search(r"<([^<>|\s]*)$", before)
+    prefix = typed.group(1) if typed else ""
     return [
-        Completion(rule.name, "rule", _first_production(result, rule.name)) for rule in result.grammar.rules
+        Completion(rule.name, "rule", _first_production(result, rule.name))
+        for rule in result.grammar.rules
+        if rule.name.startswith(prefix)
     ]
 
 
@@ -131,7 +139,16 @@ def hover(text: str, line: int, column: int) -> str | None:
     )
 
 
-__all__ = ["Completion", "NonTerminal", "analysed", "completions", "definition", "hover", "references"]
+__all__ = [
+    "CheckResult",
+    "Completion",
+    "NonTerminal",
+    "analysed",
+    "completions",
+    "definition",
+    "hover",
+    "references",
+]
 
 
 # ---- symbols, highlights, folding ------------------------------------------------------

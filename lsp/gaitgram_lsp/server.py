@@ -7,6 +7,7 @@ only LSP positions (UTF-16 columns) and types are handled.
 from __future__ import annotations
 
 import argparse
+import asyncio
 
 from lsprotocol import types
 from pygls.lsp.server import LanguageServer
@@ -58,9 +59,33 @@ def from_position(text: str, position: types.Position) -> tuple[int, int]:
     return position.line, column
 
 
-def publish(uri: str, version: int | None) -> None:
-    document = server.workspace.get_text_document(uri)
-    result = features.analysed(document.source)
+#: The last completed analysis per document: completion answers from it without waiting.
+LATEST: dict[str, features.CheckResult] = {}
+#: Edits arriving within this many seconds are checked once, for the last of them.
+DEBOUNCE_SECONDS = 0.05
+_LOCKS: dict[str, asyncio.Lock] = {}
+#: Completion lists are cut here (the client asks again as the user types: is_incomplete).
+MAX_COMPLETIONS = 200
+
+
+async def publish_later(uri: str, version: int | None) -> None:
+    """Debounced, off the event loop: a large document's check never blocks completion, and
+    a result for a superseded version is dropped, never published."""
+    await asyncio.sleep(DEBOUNCE_SECONDS)
+    async with _LOCKS.setdefault(uri, asyncio.Lock()):  # one analysis at a time: no pile-up
+        document = server.workspace.get_text_document(uri)
+        if version is not None and document.version != version:
+            return  # a newer edit has arrived; its own task will publish
+        text = document.source
+        result = await asyncio.to_thread(features.analysed, text)
+        document = server.workspace.get_text_document(uri)
+        if version is not None and document.version != version:
+            return
+        LATEST[uri] = result
+        publish(uri, version, result)
+
+
+def publish(uri: str, version: int | None, result: features.CheckResult) -> None:
     source = result.grammar.source
     diagnostics = [
         types.Diagnostic(
@@ -72,31 +97,31 @@ def publish(uri: str, version: int | None) -> None:
         )
         for d in result.diagnostics
     ]
-    if document.version == version or version is None:  # never publish for a superseded version
-        server.text_document_publish_diagnostics(
-            types.PublishDiagnosticsParams(uri=uri, diagnostics=diagnostics, version=version)
-        )
+    server.text_document_publish_diagnostics(
+        types.PublishDiagnosticsParams(uri=uri, diagnostics=diagnostics, version=version)
+    )
 
 
 @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
-def did_open(ls: LanguageServer, params: types.DidOpenTextDocumentParams) -> None:
-    publish(params.text_document.uri, params.text_document.version)
+async def did_open(ls: LanguageServer, params: types.DidOpenTextDocumentParams) -> None:
+    await publish_later(params.text_document.uri, params.text_document.version)
 
 
 @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
-def did_change(ls: LanguageServer, params: types.DidChangeTextDocumentParams) -> None:
-    publish(params.text_document.uri, params.text_document.version)
+async def did_change(ls: LanguageServer, params: types.DidChangeTextDocumentParams) -> None:
+    await publish_later(params.text_document.uri, params.text_document.version)
 
 
 @server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=["<", "@", " "]))
 def completion(ls: LanguageServer, params: types.CompletionParams) -> types.CompletionList:
     text = ls.workspace.get_text_document(params.text_document.uri).source
     line, column = from_position(text, params.position)
+    found = features.completions(text, line, column, LATEST.get(params.text_document.uri))
     items = [
         types.CompletionItem(label=c.label, kind=_KIND[c.kind], detail=c.detail or None)
-        for c in features.completions(text, line, column)
+        for c in found[:MAX_COMPLETIONS]
     ]
-    return types.CompletionList(is_incomplete=False, items=items)
+    return types.CompletionList(is_incomplete=len(found) > MAX_COMPLETIONS, items=items)
 
 
 @server.feature(types.TEXT_DOCUMENT_HOVER)

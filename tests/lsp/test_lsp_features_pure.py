@@ -1,0 +1,39 @@
+"""The server's logic without a server: pure functions of the text."""
+
+from __future__ import annotations
+
+import pytest
+
+from gaitgram_lsp import features
+
+TEXT = "@start <gait>\n<gait> ::= <hip_a>\n<hip_a> ::= <hip_b> | x\n<hip_b> ::= y\n<other> ::= z\n"
+
+
+def test_completion_filters_by_what_is_typed() -> None:
+    text = TEXT + "<new> ::= <hi"
+    labels = [c.label for c in features.completions(text, 5, len("<new> ::= <hi"))]
+    assert labels == ["hip_a", "hip_b"]
+    assert features.completions(text + "\n<ne", 6, 3) == []  # a new rule's name: no rule names
+
+
+def test_rename_edits_references_and_start_and_refuses_bad_names() -> None:
+    edits = features.rename(TEXT, 1, 1, "walk")  # on <gait> in its own rule
+    assert sorted(TEXT[s.start : s.end] for s, _ in edits) == ["gait", "gait"]
+    with pytest.raises(features.RenameError, match="not a rule name"):
+        features.rename(TEXT, 1, 1, "a b")
+    with pytest.raises(features.RenameError, match="already exists"):
+        features.rename(TEXT, 1, 1, "other")
+
+
+def test_hover_shows_facts_and_productions() -> None:
+    shown = features.hover(TEXT, 2, 2)
+    assert shown is not None
+    assert "**<hip_a>**: 2 choices" in shown
+    assert "| <hip_b>" in shown
+
+
+def test_code_actions_define_and_replace() -> None:
+    text = "<a> ::= <hip> | <hipp>\n<hip> ::= x\n"
+    start = text.index("<hipp>")
+    titles = [fix.title for fix in features.code_actions(text, start, start + 1)]
+    assert titles == ["Define <hipp>", "Replace with <hip>"]
