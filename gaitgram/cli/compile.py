@@ -32,8 +32,11 @@ def command(
     force: Annotated[bool, typer.Option("--force", help="Overwrite OUTPUT if it exists.")] = False,
     defines: Defines = None,
 ) -> None:
-    """Compile a grammar: json (portable tables, docs/ge.md), python (a mapper module that needs no
-    gaitgram), or ponyge2 (plain BNF with typed ranges expanded, for PonyGE2 and GEVA)."""
+    """Compile a grammar to mapper tables, a standalone Python mapper, or PonyGE2 BNF.
+
+    json: portable tables (docs/ge.md); python: a module that maps genomes with no gaitgram
+    installed; ponyge2: plain BNF with typed ranges expanded, for PonyGE2 and GEVA.
+    """
     result = load_usable(grammar, parse_defines(defines))
     options = MappingOptions(codons, max_wraps, max_depth)
     if target is Target.JSON:

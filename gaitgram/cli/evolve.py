@@ -54,8 +54,11 @@ def command(
     ] = False,
     defines: Defines = None,
 ) -> None:
-    """Evolve gaits: the paper's Table 1 by default; every generation is checkpointed (Ctrl-C stops
-    cleanly after the current one; --resume continues to exactly the uninterrupted result)."""
+    """Evolve gaits with GE (the paper's Table 1 parameters by default).
+
+    Every generation is checkpointed: Ctrl-C stops cleanly after the current one, and --resume
+    continues to exactly the result of an uninterrupted run.
+    """
     values = parse_defines(defines)
     try:
         if resume is not None:

@@ -18,8 +18,11 @@ def command(
     out: Annotated[Path, typer.Option("--out", "-o", help="Where to write the report.")] = Path("report"),
     force: Annotated[bool, typer.Option("--force", help="Overwrite an existing report.")] = False,
 ) -> None:
-    """Best and average fitness per generation averaged over runs (PNG, SVG), and a table of average
-    best / average average with standard deviations (Markdown, CSV)."""
+    """Fitness figures and tables over runs, like the paper's.
+
+    Best and average fitness per generation averaged over runs (PNG, SVG), and a table of
+    average best and average average with their standard deviations (Markdown, CSV).
+    """
     try:
         import matplotlib  # noqa: F401
     except ImportError:

@@ -39,8 +39,11 @@ def command(
     output_format: Annotated[OutputFormat, typer.Option("--format", "-f")] = OutputFormat.HUMAN,
     defines: Defines = None,
 ) -> None:
-    """Check built-in properties (clean mapping, determinism, depth, joint curves compile, are finite and
-    stay within their limits) on generated derivations; report each with a minimal counterexample."""
+    """Property-based testing of a grammar, with shrunk counterexamples.
+
+    Built-in properties: clean mapping, determinism, depth, joint curves compile, are finite and
+    stay within their limits; add your own with --properties FILE.
+    """
     checked = load_usable(grammar, parse_defines(defines))
     mapper = compile_mapper(checked.grammar, codons=codons, max_wraps=0)
     context = Context(checked.grammar, mapper, max_depth)
