@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 from functools import lru_cache
+from itertools import pairwise
 
 from gaitgram.analysis import CheckResult, check
 from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backend_names, get_backend
@@ -287,3 +288,115 @@ def inlay_hints(text: str) -> list[tuple[int, str]]:
         reads = "reads a codon" if facts.choices > 1 else "no codon (lazy)"
         hints.append((rule.name_span.end, f" {facts.choices} choices, {reads}"))
     return hints
+
+
+# ---- typed ranges, semantic tokens, snippets -------------------------------------------------
+
+
+def range_at(result: CheckResult, offset: int):
+    """The typed range (a ``RangeSpec``) under the cursor, with its span."""
+    for rule in result.grammar.rules:
+        if not rule.span.start <= offset <= rule.span.end:
+            continue
+        for alternative in rule.alternatives:
+            whole = alternative.range_values
+            if whole is not None and alternative.span.start <= offset <= alternative.span.end:
+                return whole, alternative.span
+            for symbol in alternative.symbols:
+                spec = getattr(symbol, "spec", None)
+                if spec is not None and symbol.span.start <= offset <= symbol.span.end:
+                    return spec, symbol.span
+    return None
+
+
+def range_hover(text: str, line: int, column: int) -> str | None:
+    result = analysed(text)
+    found = range_at(result, offset_of(result, line, column))
+    if found is None:
+        return None
+    spec, _ = found
+    values = spec.values
+    return (
+        f"**{spec.text}**: {len(values)} values, one codon picks one\n\n"
+        f"first `{values[0]}`, last `{values[-1]}`" + (f", then `{values[1]}`" if len(values) > 2 else "")
+    )
+
+
+#: Semantic token types, in the legend's order.
+TOKEN_TYPES = ("function", "variable", "string", "number", "decorator", "comment", "operator")
+
+
+def semantic_tokens(text: str) -> list[tuple[int, int, str]]:
+    """(start offset, length, token type) for rule heads, references, terminals, ranges,
+    annotations and comments, in document order."""
+    from gaitgram.language.parser import parse_tree, scanner
+
+    tree = parse_tree(text)
+    kinds = {
+        "NONTERMINAL": "variable",
+        "STRING": "string",
+        "RANGE": "number",
+        "GE_RANGE": "number",
+        "COMMENT": "comment",
+        "PIPE": "operator",
+        "TEXT": "string",
+    }
+    tokens: list[tuple[int, int, str]] = []
+    for token in tree.scan_values(lambda v: hasattr(v, "type")):
+        if token.type == "RULE_HEAD":
+            close = token.index(">") + 1
+            tokens.append((token.start_pos, close, "function"))
+        elif token.type == "ANNOTATION":
+            at = token.index("@")
+            tokens.append((token.start_pos + at, len(token) - at, "decorator"))
+        elif token.type == "COMMENT":
+            tokens.append((token.start_pos, len(token), "comment"))
+        elif token.type == "PIECES":
+            for kind, start, end in scanner().pieces(text, token.start_pos, token.end_pos):
+                if kind in kinds and (kind != "TEXT" or text[start:end].strip()):
+                    tokens.append((start, end - start, kinds[kind]))
+    return sorted(tokens)
+
+
+SNIPPETS = {
+    "new rule": ("<${1:name}> ::= ${2:a} | ${3:b}", "a rule with two alternatives"),
+    "int range": ("int[${1:0}..${2:10}]", "integers, one codon per value"),
+    "float range by step": ("float[${1:0}..${2:20} step ${3:0.25}]", "floats on a grid"),
+    "float range by count": ("float[${1:-3.14}..${2:3.14} count ${3:64}]", "evenly spaced floats"),
+    "relative range": ("float[${1:7.7} ± ${2:25}% count ${3:21}]", "within a percentage of a value"),
+}
+
+
+# ---- value lists <-> typed ranges -----------------------------------------------------------
+
+_NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d+)?|\.\d+)")
+MAX_EXPANDED = 200
+
+
+def range_refactors(text: str, offset: int) -> list[Fix]:
+    """For the rule under the cursor: collapse a written-out arithmetic value list
+    (``0 | 0.25 | 0.5 | ... | 20``) to a typed range, or expand a typed range into its values."""
+    from decimal import Decimal
+
+    result = analysed(text)
+    rule = next((r for r in result.grammar.rules if r.span.start <= offset <= r.span.end), None)
+    if rule is None or not rule.alternatives:
+        return []
+    source = result.grammar.source
+    body = Span(rule.alternatives[0].span.start, rule.alternatives[-1].span.end)
+    written = [source.slice(a.span) for a in rule.alternatives]
+    if len(written) == 1 and rule.alternatives[0].range_values is not None:
+        values = rule.alternatives[0].range_values.values
+        if len(values) <= MAX_EXPANDED:
+            return [Fix(f"Expand into {len(values)} alternatives", ((body, " | ".join(values)),), "refactor")]
+        return []
+    if len(written) >= 3 and all(_NUMBER.fullmatch(w) for w in written):
+        numbers = [Decimal(w) for w in written]
+        step = numbers[1] - numbers[0]
+        if step > 0 and all(b - a == step for a, b in pairwise(numbers)):
+            is_int = all(n == n.to_integral_value() for n in numbers)
+            kind = "int" if is_int else "float"
+            suffix = "" if is_int and step == 1 else f" step {step.normalize()}"
+            spec = f"{kind}[{numbers[0].normalize()}..{numbers[-1].normalize()}{suffix}]"
+            return [Fix(f"Collapse into {spec}", ((body, spec),), "refactor")]
+    return []

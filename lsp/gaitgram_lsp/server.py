@@ -85,9 +85,9 @@ async def publish_later(uri: str, version: int | None) -> None:
         publish(uri, version, result)
 
 
-def publish(uri: str, version: int | None, result: features.CheckResult) -> None:
+def _diagnostics(result: features.CheckResult) -> list[types.Diagnostic]:
     source = result.grammar.source
-    diagnostics = [
+    return [
         types.Diagnostic(
             range=to_range(source, d.span),
             message=d.message + (f"\nhint: {d.hint}" if d.hint else ""),
@@ -97,8 +97,11 @@ def publish(uri: str, version: int | None, result: features.CheckResult) -> None
         )
         for d in result.diagnostics
     ]
+
+
+def publish(uri: str, version: int | None, result: features.CheckResult) -> None:
     server.text_document_publish_diagnostics(
-        types.PublishDiagnosticsParams(uri=uri, diagnostics=diagnostics, version=version)
+        types.PublishDiagnosticsParams(uri=uri, diagnostics=_diagnostics(result), version=version)
     )
 
 
@@ -121,13 +124,25 @@ def completion(ls: LanguageServer, params: types.CompletionParams) -> types.Comp
         types.CompletionItem(label=c.label, kind=_KIND[c.kind], detail=c.detail or None)
         for c in found[:MAX_COMPLETIONS]
     ]
+    if not found or found[0].kind == "rule":  # snippets where rules or new rules are written
+        items += [
+            types.CompletionItem(
+                label=label,
+                kind=types.CompletionItemKind.Snippet,
+                detail=detail,
+                insert_text=body,
+                insert_text_format=types.InsertTextFormat.Snippet,
+            )
+            for label, (body, detail) in features.SNIPPETS.items()
+        ]
     return types.CompletionList(is_incomplete=len(found) > MAX_COMPLETIONS, items=items)
 
 
 @server.feature(types.TEXT_DOCUMENT_HOVER)
 def hover(ls: LanguageServer, params: types.HoverParams) -> types.Hover | None:
     text = ls.workspace.get_text_document(params.text_document.uri).source
-    found = features.hover(text, *from_position(text, params.position))
+    position = from_position(text, params.position)
+    found = features.range_hover(text, *position) or features.hover(text, *position)
     if found is None:
         return None
     return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=found))
@@ -241,7 +256,7 @@ def code_action(ls: LanguageServer, params: types.CodeActionParams) -> list[type
             kind=types.CodeActionKind.QuickFix,
             edit=types.WorkspaceEdit(changes={uri: [_edit(source, s, t) for s, t in fix.edits]}),
         )
-        for fix in features.code_actions(text, start, end)
+        for fix in [*features.code_actions(text, start, end), *features.range_refactors(text, start)]
     ]
 
 
@@ -253,6 +268,59 @@ def inlay_hint(ls: LanguageServer, params: types.InlayHintParams) -> list[types.
         types.InlayHint(position=to_position(source, offset), label=label)
         for offset, label in features.inlay_hints(text)
     ]
+
+
+@server.feature(
+    types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL,
+    types.SemanticTokensLegend(token_types=list(features.TOKEN_TYPES), token_modifiers=[]),
+)
+def semantic_tokens(ls: LanguageServer, params: types.SemanticTokensParams) -> types.SemanticTokens:
+    text = _text(ls, params.text_document.uri)
+    source = SourceText(text)
+    data: list[int] = []
+    previous_line = previous_start = 0
+    for start, length, kind in features.semantic_tokens(source.text):
+        position = to_position(source, start)
+        end = to_position(source, start + length)
+        if end.line != position.line:  # multi-line tokens are not allowed: keep the first line
+            length_units = (
+                len(source.line_text(position.line + 1).encode("utf-16-le")) // 2 - position.character
+            )
+        else:
+            length_units = end.character - position.character
+        delta_line = position.line - previous_line
+        delta_start = position.character - previous_start if delta_line == 0 else position.character
+        data += [delta_line, delta_start, length_units, features.TOKEN_TYPES.index(kind), 0]
+        previous_line, previous_start = position.line, position.character
+    return types.SemanticTokens(data=data)
+
+
+@server.feature(
+    types.TEXT_DOCUMENT_DIAGNOSTIC,
+    types.DiagnosticOptions(inter_file_dependencies=False, workspace_diagnostics=False),
+)
+def pull_diagnostics(
+    ls: LanguageServer, params: types.DocumentDiagnosticParams
+) -> types.FullDocumentDiagnosticReport:
+    text = _text(ls, params.text_document.uri)
+    return types.FullDocumentDiagnosticReport(items=_diagnostics(features.analysed(text)))
+
+
+@server.feature(types.WORKSPACE_SYMBOL)
+def workspace_symbols(ls: LanguageServer, params: types.WorkspaceSymbolParams) -> list[types.WorkspaceSymbol]:
+    found = []
+    for uri, document in list(ls.workspace.text_documents.items()):
+        source = features.analysed(document.source).grammar.source
+        for symbol in features.document_symbols(document.source):
+            if params.query.lower() in symbol.name.lower():
+                found.append(
+                    types.WorkspaceSymbol(
+                        name=f"<{symbol.name}>",
+                        kind=types.SymbolKind.Function,
+                        location=types.Location(uri=uri, range=to_range(source, symbol.name_span)),
+                    )
+                )
+    return found
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -37,3 +37,18 @@ def test_code_actions_define_and_replace() -> None:
     start = text.index("<hipp>")
     titles = [fix.title for fix in features.code_actions(text, start, start + 1)]
     assert titles == ["Define <hipp>", "Replace with <hip>"]
+
+
+def test_value_list_collapses_to_a_typed_range_and_back() -> None:
+    text = "<a> ::= <amp>\n<amp> ::= 0 | 0.25 | 0.5 | 0.75 | 1\n"
+    (collapse,) = features.range_refactors(text, text.index("0.25"))
+    assert collapse.title == "Collapse into float[0..1 step 0.25]"
+    ((span, replacement),) = collapse.edits
+    collapsed = text[: span.start] + replacement + text[span.end :]
+    assert collapsed == "<a> ::= <amp>\n<amp> ::= float[0..1 step 0.25]\n"
+    (expand,) = features.range_refactors(collapsed, collapsed.index("float"))
+    ((span, replacement),) = expand.edits
+    assert collapsed[: span.start] + replacement + collapsed[span.end :] == text
+    ints = "<k> ::= 1 | 2 | 3 | 4\n"
+    assert features.range_refactors(ints, 3)[0].title == "Collapse into int[1..4]"
+    assert features.range_refactors("<k> ::= 1 | 2 | 4\n", 3) == []  # not evenly spaced

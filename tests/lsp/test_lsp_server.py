@@ -222,3 +222,34 @@ async def test_random_edits_never_break_the_server(client: LanguageClient) -> No
             types.CompletionParams(text_document=doc(), position=at(len(lines) - 1, len(lines[-1])))
         )
         assert result is not None
+
+
+@pytest.mark.asyncio
+async def test_range_hover_semantic_tokens_pull_and_workspace_symbols(client: LanguageClient) -> None:
+    open_document(client)
+    hover = await client.text_document_hover_async(types.HoverParams(text_document=doc(), position=at(4, 12)))
+    assert "**int[0..20]**: 21 values" in hover.contents.value
+    assert "first `0`, last `20`" in hover.contents.value
+    tokens = await client.text_document_semantic_tokens_full_async(
+        types.SemanticTokensParams(text_document=doc())
+    )
+    assert len(tokens.data) % 5 == 0
+    assert len(tokens.data) >= 5 * 10
+    first = tokens.data[:5]  # "@backend" on line 0
+    assert list(first[:3]) == [0, 0, len("@backend")]
+    report = await client.text_document_diagnostic_async(types.DocumentDiagnosticParams(text_document=doc()))
+    assert [d.code for d in report.items] == [d.code.code for d in check(parse(TEXT)).diagnostics]
+    symbols = await client.workspace_symbol_async(types.WorkspaceSymbolParams(query="hi"))
+    assert [s.name for s in symbols] == ["<hip>"]
+
+
+@pytest.mark.asyncio
+async def test_snippets_offered_on_right_hand_sides(client: LanguageClient) -> None:
+    text = TEXT + "<more> ::= \n"
+    open_document(client, text)
+    result = await client.text_document_completion_async(
+        types.CompletionParams(text_document=doc(), position=at(6, len("<more> ::= ")))
+    )
+    snippets = [i for i in result.items if i.kind == types.CompletionItemKind.Snippet]
+    assert {"int range", "relative range", "new rule"} <= {s.label for s in snippets}
+    assert all(s.insert_text_format == types.InsertTextFormat.Snippet for s in snippets)
