@@ -176,9 +176,12 @@ class HorseEvaluator:
         nq = model.nq
         trunk_pos = sensors[:, :, layout.sensors["trunk_pos"]]
         trunk_quat = sensors[:, :, layout.sensors["trunk_quat"]]
-        finite = np.isfinite(state).all(axis=(1, 2)) & np.isfinite(sensors).all(axis=(1, 2))
+        # A diverged rollout's NaN or inf persists to its last state (NaN never recovers), so the
+        # last states and the NaN-propagating speed maximum find it without a pass over all.
+        finite = np.isfinite(state[:, -1]).all(axis=1) & np.isfinite(sensors[:, -1]).all(axis=1)
         with np.errstate(all="ignore"):
             speed = np.abs(state[:, :, 1 + nq + 6 : 1 + nq + model.nv]).max(axis=(1, 2))
+            finite &= np.isfinite(speed)
             height = trunk_pos[:, :, 2].min(axis=1)
             x, y = trunk_quat[:, :, 1], trunk_quat[:, :, 2]
             up_z = 1 - 2 * (x**2 + y**2)  # z component of the trunk's up axis
@@ -201,10 +204,15 @@ class HorseEvaluator:
         act_v = state[:, scored, 1 + nq + np.asarray(layout.actuator_dof)]
         kp = -model.actuator_biasprm[:, 1]
         kv = -model.actuator_biasprm[:, 2]
-        force = model.actuator_gainprm[:, 0] * control[:, scored] - kp * act_q - kv * act_v
-        force = np.clip(force, model.actuator_forcerange[:, 0], model.actuator_forcerange[:, 1])
-        with np.errstate(all="ignore"):
-            work = (np.abs(force * act_v).sum(axis=(1, 2)) * self.dt) / self.settings.cycles
+        with np.errstate(all="ignore"):  # in place: these arrays are gaits x steps x actuators
+            force = control[:, scored] * model.actuator_gainprm[:, 0]
+            act_q *= kp
+            force -= act_q
+            force -= kv * act_v
+            np.clip(force, model.actuator_forcerange[:, 0], model.actuator_forcerange[:, 1], out=force)
+            force *= act_v
+            np.abs(force, out=force)
+            work = force.sum(axis=(1, 2)) * self.dt / self.settings.cycles
         evaluations = []
         for g in range(state.shape[0]):
             if not finite[g] or speed[g] > UNSTABLE_SPEED:
