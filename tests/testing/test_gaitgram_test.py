@@ -131,3 +131,11 @@ def test_every_bundled_grammar_runs_gaitgram_test() -> None:
         assert [r["property"] for r in records] == selected
         assert all(r["passed"] for r in records), (path.name, records)
     assert isinstance(compile_motion("1"), Motion)
+
+
+def test_the_bundled_default_passes_every_property() -> None:
+    result = runner.invoke(
+        app, ["test", str(GRAMMARS / "sine-walk.gg"), "--examples", "40", "--format", "json"]
+    )
+    assert result.exit_code == 0, result.stdout
+    assert all(r["passed"] for r in json.loads(result.stdout))
