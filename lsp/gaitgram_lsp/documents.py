@@ -1,0 +1,393 @@
+"""Open documents, and their analyses by version: the server's only state.
+
+Edits are applied as they arrive; the analysis (parse + ``check``) runs debounced, in one
+worker thread, one at a time, incrementally (``incremental.py``). Its result, a
+:class:`Snapshot`, belongs to one revision of the text. It is published only if that is
+still the document's revision when it is ready, and features read it only while it is:
+
+* ``await documents.current(uri)`` gives the snapshot of the current text, analysing it now
+  if it is not ready yet, or ``None`` if the text changed meanwhile (the request is stale);
+* completion does not wait (but for a document's first analysis): it reads the last built
+  :class:`CompletionModel`, which holds only plain values, together with the current text.
+  The model is built after the diagnostics are published, in the same worker.
+
+Why a snapshot is unreadable once its revision is not the current one: the incremental
+parser shifts the spans of the rules it keeps, in place, when it analyses a newer text.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import functools
+import gc
+import itertools
+import json
+import logging
+import os
+from collections.abc import Callable, Iterable, Mapping
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+
+from lsprotocol import types
+
+from gaitgram._gc import gc_paused
+from gaitgram.analysis import CheckResult, check
+from gaitgram.language import parse
+from gaitgram.language.source import SourceText
+from gaitgram_lsp.features.completion import CompletionModel
+from gaitgram_lsp.features.diagnostics import WireDiagnostic, to_lsp, wire_diagnostics
+from gaitgram_lsp.incremental import IncrementalParser
+from gaitgram_lsp.positions import UTF16, PositionIndex, apply_change, raw_line_starts
+
+log = logging.getLogger(__name__)
+_result_ids = itertools.count(1)
+
+#: Edits closer together than this are analysed once, for the last of them.
+DEBOUNCE_SECONDS = 0.03
+#: After this long without an analysis, the garbage collector looks at everything once.
+IDLE_COLLECT_SECONDS = 5.0
+#: Set to compare every incremental parse with a full one (slow; for tests and bug hunts).
+VERIFY_ENV = "GAITGRAM_LSP_VERIFY"
+
+
+@dataclass(eq=False)
+class Snapshot:
+    """One analysed revision of a document: the model, its facts and diagnostics."""
+
+    uri: str
+    version: int | None  # the client's
+    revision: int  # ours: counts every change, so stale results are recognised
+    result: CheckResult
+    positions: PositionIndex
+    wire_diagnostics: list[WireDiagnostic]
+    #: Names this result for pull diagnostics (``previousResultId``).
+    result_id: str = field(default_factory=lambda: str(next(_result_ids)))
+
+    @cached_property
+    def diagnostics(self) -> list[types.Diagnostic]:
+        return to_lsp(self.wire_diagnostics)
+
+    @cached_property
+    def published_params(self) -> str:
+        """``publishDiagnostics`` parameters as JSON: encoded in the analysis thread, so the
+        event loop only writes them (thousands of diagnostics take tens of milliseconds)."""
+        params = {"uri": self.uri, "diagnostics": self.wire_diagnostics}
+        if self.version is not None:
+            params["version"] = self.version
+        return json.dumps(params, separators=(",", ":"))
+
+    @cached_property
+    def completion(self) -> CompletionModel:
+        return CompletionModel.of(self.result)
+
+    @property
+    def source(self) -> SourceText:
+        return self.result.grammar.source
+
+    @property
+    def text(self) -> str:
+        return self.result.grammar.source.text
+
+    @cached_property
+    def rule_starts(self) -> list[int]:
+        """Start offsets of the rules, in order: to find the rule at an offset by bisection."""
+        return [rule.span.start for rule in self.result.grammar.rules]
+
+
+def analyse(
+    text: str,
+    *,
+    uri: str = "file:///untitled.gg",
+    version: int | None = None,
+    revision: int = 0,
+    encoding: str = UTF16,
+    parser: IncrementalParser | None = None,
+    defines: Mapping[str, int] | None = None,
+) -> Snapshot:
+    """Parse and check ``text``: what ``gaitgram check`` does, reusing ``parser``'s work."""
+    source = SourceText(text)
+    if parser is None:
+        grammar = parse(source, defines=defines)
+    else:
+        try:
+            grammar = parser.parse(source)
+        except Exception:  # a bug in the incremental path must cost speed, never answers
+            log.exception("incremental parse failed; parsing the whole document")
+            parser.reset()
+            grammar = parse(source, defines=parser.external_defines)
+        if os.environ.get(VERIFY_ENV):
+            _verify(grammar, source, parser.external_defines)
+    result = check(grammar)
+    positions = PositionIndex(source, encoding)
+    return Snapshot(
+        uri=uri,
+        version=version,
+        revision=revision,
+        result=result,
+        positions=positions,
+        wire_diagnostics=wire_diagnostics(result, positions),
+    )
+
+
+def _verify(grammar: object, source: SourceText, defines: Mapping[str, int]) -> None:
+    full = parse(source, defines=defines)
+    for part in ("rules", "annotations", "joints", "diagnostics", "start", "backend", "units", "defines"):
+        if getattr(grammar, part) != getattr(full, part):
+            raise AssertionError(f"incremental parse differs from a full parse in {part}")
+
+
+@dataclass(eq=False)
+class Document:
+    """The client's text of one document, and where its analysis stands."""
+
+    uri: str
+    text: str
+    version: int | None
+    revision: int = 0
+    parser: IncrementalParser = field(default_factory=IncrementalParser)
+    #: The last finished analysis, of this or an earlier revision.
+    snapshot: Snapshot | None = None
+    #: What completion offers: from the last analysis whose model is built. Completion
+    #: reads it without waiting, so it may be an analysis behind.
+    completion: CompletionModel | None = None
+    _waiters: list[tuple[int, asyncio.Future[Snapshot | None]]] = field(default_factory=list)
+    _timer: asyncio.TimerHandle | None = None
+    _task: asyncio.Task[None] | None = None
+    _line_starts: tuple[int, list[int]] | None = None
+
+    @property
+    def current(self) -> Snapshot | None:
+        """The snapshot of the current text, if it is ready."""
+        snapshot = self.snapshot
+        return snapshot if snapshot is not None and snapshot.revision == self.revision else None
+
+    def line(self, number: int) -> str:
+        """A line of the current text (``""`` past the end), for a cheap look at the cursor."""
+        if self._line_starts is None or self._line_starts[0] != self.revision:
+            self._line_starts = (self.revision, raw_line_starts(self.text))
+        starts = self._line_starts[1]
+        if number >= len(starts):
+            return ""
+        end = starts[number + 1] if number + 1 < len(starts) else len(self.text)
+        return self.text[starts[number] : end].rstrip("\r\n")
+
+
+class Documents:
+    """The open documents of one client, analysed in the background."""
+
+    def __init__(
+        self,
+        on_analysed: Callable[[Snapshot], None] = lambda snapshot: None,
+        *,
+        debounce: float = DEBOUNCE_SECONDS,
+    ) -> None:
+        self.on_analysed = on_analysed
+        self.debounce = debounce
+        self.encoding: str = UTF16
+        self.defines: dict[str, int] = {}
+        self._open: dict[str, Document] = {}
+        self._executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="gaitgram-analysis")
+        self._idle: asyncio.TimerHandle | None = None
+
+    # ---- the client's notifications ---------------------------------------------------
+
+    def open(self, uri: str, text: str, version: int | None) -> None:
+        self.close(uri)
+        document = Document(uri, text, version, parser=IncrementalParser(self.defines))
+        self._open[uri] = document
+        self._start(document)  # nothing to debounce: the user is looking at it now
+
+    def change(
+        self, uri: str, version: int | None, changes: Iterable[types.TextDocumentContentChangeEvent]
+    ) -> None:
+        document = self._open.get(uri)
+        if document is None:
+            return
+        text = document.text
+        for change in changes:
+            if isinstance(change, types.TextDocumentContentChangePartial):
+                text = apply_change(text, change.range, change.text, self.encoding)
+            else:
+                text = change.text
+        document.text, document.version = text, version
+        document.revision += 1
+        self._resolve(document, None)  # requests about older text are stale now
+        if document._timer is not None:
+            document._timer.cancel()
+        document._timer = asyncio.get_running_loop().call_later(self.debounce, self._start, document)
+
+    def close(self, uri: str) -> None:
+        document = self._open.pop(uri, None)
+        if document is not None:
+            if document._timer is not None:
+                document._timer.cancel()
+            document.revision += 1
+            self._resolve(document, None)
+
+    # ---- reading ---------------------------------------------------------------------------
+
+    def get(self, uri: str) -> Document | None:
+        return self._open.get(uri)
+
+    def __iter__(self):
+        return iter(list(self._open.values()))
+
+    async def current(self, uri: str) -> Snapshot | None:
+        """The snapshot of the current text, analysed now if need be; ``None`` if the
+        document is not open or changed before its analysis finished."""
+        document = self._open.get(uri)
+        if document is None:
+            return None
+        if (ready := document.current) is not None:
+            return ready
+        future: asyncio.Future[Snapshot | None] = asyncio.get_running_loop().create_future()
+        document._waiters.append((document.revision, future))
+        self._start(document)  # a reader is waiting: no more debouncing
+        snapshot = await future
+        return snapshot if snapshot is not None and document.current is snapshot else None
+
+    # ---- analysis ----------------------------------------------------------------------------
+
+    def _start(self, document: Document) -> None:
+        if document._timer is not None:
+            document._timer.cancel()
+            document._timer = None
+        if document._task is None or document._task.done():
+            document._task = asyncio.get_running_loop().create_task(self._analyse(document))
+
+    async def _analyse(self, document: Document) -> None:
+        """Analyse until the snapshot is of the current text (edits may arrive meanwhile)."""
+        loop = asyncio.get_running_loop()
+        while self._open.get(document.uri) is document and document.current is None:
+            if document._timer is not None:  # an edit is still being debounced: its timer restarts us
+                return
+            work = functools.partial(
+                self._work, loop, document, document.text, document.version, document.revision
+            )
+            try:
+                await loop.run_in_executor(self._executor, work)
+            except Exception:
+                log.exception("analysis of %s failed", document.uri)
+                self._resolve(document, None)
+                return
+
+    def _work(
+        self,
+        loop: asyncio.AbstractEventLoop,
+        document: Document,
+        text: str,
+        version: int | None,
+        revision: int,
+    ) -> None:
+        """In the worker: analyse and encode, hand the snapshot over, then build what can wait.
+
+        The collector is paused throughout and what the analysis made is then frozen (left
+        to reference counting): a large grammar's model is a million small objects, and
+        the collector's passes over them, in this thread or in the event loop's, took
+        longer than the analysis. What is frozen is looked at again when the server is
+        idle (:meth:`collect`)."""
+        with gc_paused():
+            snapshot = analyse(
+                text,
+                uri=document.uri,
+                version=version,
+                revision=revision,
+                encoding=self.encoding,
+                parser=document.parser,
+            )
+            snapshot.published_params  # noqa: B018  (cached: encoded here, off the loop)
+            if document.completion is None:  # the first analysis: completion is waiting for it
+                document.completion = snapshot.completion
+            gc.freeze()
+        loop.call_soon_threadsafe(self._deliver, document, snapshot)
+        with gc_paused():
+            document.completion = snapshot.completion  # built once the diagnostics are out
+            gc.freeze()
+
+    def _deliver(self, document: Document, snapshot: Snapshot) -> None:
+        """On the loop: keep the snapshot, and publish it if its text is still current."""
+        if self._idle is not None:
+            self._idle.cancel()
+        self._idle = asyncio.get_running_loop().call_later(IDLE_COLLECT_SECONDS, self.collect)
+        if self._open.get(document.uri) is not document:
+            return
+        document.snapshot = snapshot
+        if document.revision == snapshot.revision:
+            self._resolve(document, snapshot)
+            self.on_analysed(snapshot)
+
+    def _resolve(self, document: Document, snapshot: Snapshot | None) -> None:
+        waiting, document._waiters = document._waiters, []
+        for revision, future in waiting:
+            if not future.done():
+                future.set_result(
+                    snapshot if snapshot is not None and snapshot.revision == revision else None
+                )
+
+    @staticmethod
+    def collect() -> None:
+        """A full collection, of frozen objects too, then freeze what is left: cycles made
+        during analyses (rare: exceptions, lark's error recovery) are freed here."""
+        gc.unfreeze()
+        gc.collect()
+        gc.freeze()
+
+    def shutdown(self) -> None:
+        if self._idle is not None:
+            self._idle.cancel()
+        self._executor.shutdown(wait=False, cancel_futures=True)
+
+
+# ---- grammars on disk, for workspace symbols ------------------------------------------------
+
+GRAMMAR_SUFFIXES = (".gg", ".bnf", ".pybnf")
+_SKIP_DIRECTORIES = {".git", ".hg", ".venv", "venv", "node_modules", "__pycache__", ".tox", "build", "dist"}
+#: A workspace is searched for at most this many grammar files.
+MAX_WORKSPACE_FILES = 2_000
+_on_disk: dict[Path, tuple[tuple[float, int], Snapshot]] = {}
+
+
+def workspace_grammars(roots: Iterable[str], skip: set[str]) -> list[Snapshot]:
+    """Snapshots of the grammar files under ``roots`` whose URIs are not in ``skip`` (the
+    open ones); each file is read again only when it changes on disk."""
+    found: list[Snapshot] = []
+    seen = 0
+    for root in roots:
+        for directory, subdirectories, files in os.walk(root):
+            subdirectories[:] = [d for d in subdirectories if d not in _SKIP_DIRECTORIES]
+            for name in files:
+                if not name.endswith(GRAMMAR_SUFFIXES):
+                    continue
+                seen += 1
+                if seen > MAX_WORKSPACE_FILES:
+                    return found
+                path = Path(directory, name)
+                uri = path.as_uri()
+                if uri in skip:
+                    continue
+                snapshot = _read(path, uri)
+                if snapshot is not None:
+                    found.append(snapshot)
+    return found
+
+
+def _read(path: Path, uri: str) -> Snapshot | None:
+    from gaitgram.language.source import SourceError, read_source
+
+    try:
+        stat = path.stat()
+    except OSError:
+        return None
+    key = (stat.st_mtime, stat.st_size)
+    cached = _on_disk.get(path)
+    if cached is not None and cached[0] == key:
+        return cached[1]
+    try:
+        source = read_source(path)
+    except SourceError:
+        return None
+    snapshot = analyse(source.text, uri=uri)
+    _on_disk[path] = (key, snapshot)
+    return snapshot

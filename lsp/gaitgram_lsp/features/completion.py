@@ -1,0 +1,450 @@
+"""Completion that knows where the cursor is.
+
+It never waits for an analysis: the names it offers come from the last one (a
+:class:`CompletionModel`, plain values only), and what is being typed comes from the
+current line. Contexts:
+
+* ``@`` at the start of a line: annotation names;
+* an annotation's arguments: its parameters' values (``@backend`` backends, ``@joint`` the
+  declared backend's joints, then ``limits=`` with the joint's limits and ``free=`` with its
+  Table 3 generation, ``@units`` deg/rad, ``@start`` rules) and its keyword names;
+* a right-hand side: rule references (their first production as detail), nearest rules
+  first and filtered by what is typed, and typed-range snippets;
+* ``<`` at the start of a line, where a new rule's name is typed: no rule names, only the
+  names used but not defined yet, and the new-rule snippet;
+* nothing inside a comment or a string.
+"""
+
+from __future__ import annotations
+
+import re
+from bisect import bisect_left
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from decimal import Decimal
+from enum import Enum
+
+from lsprotocol import types
+
+from gaitgram.analysis import CheckResult
+from gaitgram.backends.catalogue import Joint
+from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backend_names, get_backend
+from gaitgram.language.annotations import ANNOTATIONS, AnnotationKind, Parameter, ValueType
+from gaitgram_lsp.positions import PositionIndex, units
+
+#: Lists are cut here; the client asks again as more is typed (``isIncomplete``).
+MAX_ITEMS = 200
+TRIGGER_CHARACTERS = ["<", "@", " ", "="]
+
+_DETAIL_WIDTH = 60
+
+
+@dataclass(frozen=True, slots=True)
+class RuleEntry:
+    name: str
+    detail: str  # its first production
+    line: int  # where it is defined: nearer rules rank first
+
+
+@dataclass(frozen=True)
+class CompletionModel:
+    """What completion needs from an analysis, as plain values that stay valid after it."""
+
+    rules: tuple[RuleEntry, ...] = ()
+    #: Names used but not defined, with a rule that uses each.
+    undefined: tuple[tuple[str, str], ...] = ()
+    backend: str | None = None
+    units: str = "deg"
+    #: Joint name -> the rule that drives it.
+    driven: dict[str, str] = field(default_factory=dict)
+    #: The rules' names in lower case, and their lines: what ranking reads.
+    folded: tuple[str, ...] = field(init=False, repr=False)
+    lines: tuple[int, ...] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "folded", tuple(rule.name.lower() for rule in self.rules))
+        object.__setattr__(self, "lines", tuple(rule.line for rule in self.rules))
+
+    @classmethod
+    def of(cls, result: CheckResult) -> CompletionModel:
+        grammar = result.grammar
+        source = grammar.source
+        defined = grammar.rules_by_name
+        firsts = list(defined.values())
+        lines = PositionIndex(source).line_column(r.span.start for r in firsts)
+        rules = tuple(
+            RuleEntry(rule.name, _first_production(source.text, rule), line)
+            for rule, (line, _) in zip(firsts, lines, strict=True)
+        )
+        undefined: dict[str, str] = {}
+        for rule in grammar.rules:
+            for ref in rule.references():
+                if ref.name not in defined:
+                    undefined.setdefault(ref.name, rule.name)
+        return cls(
+            rules=rules,
+            undefined=tuple(undefined.items()),
+            backend=grammar.backend,
+            units=grammar.units,
+            driven={j.joint: j.rule for j in grammar.joints},
+        )
+
+
+def _first_production(text: str, rule) -> str:
+    if not rule.alternatives:
+        return ""
+    span = rule.alternatives[0].span
+    shown = " ".join(text[span.start : min(span.end, span.start + 4 * _DETAIL_WIDTH)].split())
+    more = " | …" if len(rule.alternatives) > 1 else ""
+    if len(shown) > _DETAIL_WIDTH:
+        shown = shown[: _DETAIL_WIDTH - 1] + "…"
+    return shown + more
+
+
+# ---- the context at the cursor ------------------------------------------------------------
+
+
+class Where(Enum):
+    ANNOTATION = "annotation"  # the name after @
+    ARGUMENT = "argument"  # an annotation argument's value
+    KEYWORD = "keyword"  # an annotation's key=
+    RULE = "rule"  # a reference on a right-hand side
+    HEAD = "head"  # a new rule's name
+    NOTHING = "nothing"
+
+
+@dataclass(frozen=True)
+class Context:
+    where: Where
+    typed: str = ""  # what is typed of the word being completed
+    start: int = 0  # code-point columns of the text an item replaces
+    end: int = 0
+    annotation: AnnotationKind | None = None
+    parameter: Parameter | None = None
+    words: tuple[str, ...] = ()  # the annotation's arguments before the cursor
+    bracket: bool = False  # RULE: a < was typed
+    closed: bool = False  # HEAD: the name's > and ::= are already there
+
+
+_ANNOTATION_LINE = re.compile(r"[^\S\n]*@([A-Za-z_][\w-]*)?(.*)", re.DOTALL)
+_NAME_CHARS = re.compile(r"[^<>|\s]*")
+
+
+def context(before: str, after: str) -> Context:
+    """What is being typed, from the line's text before and after the cursor."""
+    annotation = _ANNOTATION_LINE.fullmatch(before)
+    if annotation is not None:
+        name, rest = annotation.group(1) or "", annotation.group(2)
+        if not rest:
+            at = before.index("@") + 1
+            tail = len(re.match(r"[\w-]*", after).group())  # type: ignore[union-attr]
+            return Context(Where.ANNOTATION, name, at, len(before) + tail)
+        if rest[0].isspace():
+            return _argument_context(ANNOTATIONS.get(name), before, rest, after)
+        return Context(Where.NOTHING)
+    if _in_comment_or_string(before):
+        return Context(Where.NOTHING)
+    head = re.fullmatch(r"<([^<>|\s]*)", before)
+    if head is not None:  # a line that starts with a name: a new rule, unless more follows it
+        tail = _NAME_CHARS.match(after).group()  # type: ignore[union-attr]
+        rest = after[len(tail) :]
+        closed = re.match(r">\s*::=", rest) is not None
+        if closed or rest.strip() in ("", ">"):
+            end = len(before) + len(tail) + (1 if rest.startswith(">") else 0)
+            return Context(Where.HEAD, head.group(1), 0, end, closed=closed)
+    reference = re.search(r"<([^<>|\s]*)$", before)
+    if reference is not None:
+        tail = _NAME_CHARS.match(after).group()  # type: ignore[union-attr]
+        end = len(before) + len(tail) + (1 if after[len(tail) :].startswith(">") else 0)
+        return Context(Where.RULE, reference.group(1), reference.start(), end, bracket=True)
+    word = re.search(r"[\w-]*$", before).group()  # type: ignore[union-attr]
+    tail = re.match(r"[\w-]*", after).group()  # type: ignore[union-attr]
+    return Context(Where.RULE, word, len(before) - len(word), len(before) + len(tail))
+
+
+def _argument_context(kind: AnnotationKind | None, before: str, rest: str, after: str) -> Context:
+    if kind is None:
+        return Context(Where.NOTHING)
+    current = re.search(r"\S*$", rest).group()  # type: ignore[union-attr]
+    words = tuple(rest[: len(rest) - len(current)].split())
+    tail = re.match(r"[^\s#]*", after).group()  # type: ignore[union-attr]
+    end = len(before) + len(tail)
+    if "#" in rest:
+        return Context(Where.NOTHING)
+    if "=" in current:
+        key, _, typed = current.partition("=")
+        parameter = kind.keywords.get(key)
+        if parameter is None:
+            return Context(Where.NOTHING)
+        return Context(Where.ARGUMENT, typed, end - len(typed) - len(tail), end, kind, parameter, words)
+    start = len(before) - len(current)
+    positional = [w for w in words if "=" not in w]
+    if len(positional) < len(kind.positional):
+        parameter = kind.positional[len(positional)]
+        return Context(Where.ARGUMENT, current, start, end, kind, parameter, words)
+    return Context(Where.KEYWORD, current, start, end, kind, None, words)
+
+
+def _in_comment_or_string(before: str) -> bool:
+    quote = None
+    for ch in before:
+        if quote is not None:
+            if ch == quote:
+                quote = None
+        elif ch in "'\"":
+            quote = ch
+        elif ch == "#":
+            return True
+    return quote is not None
+
+
+# ---- items -----------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Client:
+    """What the client can show."""
+
+    snippets: bool = False
+    markdown: bool = False
+
+
+def complete(
+    model: CompletionModel,
+    line: int,
+    line_text: str,
+    column: int,
+    *,
+    encoding: str,
+    client: Client = Client(),
+    trigger: str | None = None,
+) -> types.CompletionList:
+    """Completions at code-point ``column`` of ``line`` (whose text is ``line_text``)."""
+    found = context(line_text[:column], line_text[column:])
+    if trigger == " " and found.where not in (Where.ARGUMENT, Where.KEYWORD):
+        return types.CompletionList(is_incomplete=False, items=[])  # a space in a rule is not a request
+    if trigger == "@" and found.where is not Where.ANNOTATION:
+        return types.CompletionList(is_incomplete=False, items=[])
+
+    def edit(new_text: str) -> types.TextEdit:
+        start = units(line_text[: found.start], encoding)
+        end = units(line_text[: found.end], encoding)
+        return types.TextEdit(
+            range=types.Range(
+                start=types.Position(line=line, character=start), end=types.Position(line=line, character=end)
+            ),
+            new_text=new_text,
+        )
+
+    items: list[types.CompletionItem] = []
+    incomplete = False
+    if found.where is Where.ANNOTATION:
+        items = [
+            types.CompletionItem(
+                label=kind.name,
+                kind=types.CompletionItemKind.Keyword,
+                detail=kind.summary,
+                documentation=_documentation(_annotation_doc(kind), client),
+                text_edit=edit(kind.name),
+            )
+            for kind in ANNOTATIONS.values()
+        ]
+    elif found.where is Where.ARGUMENT and found.parameter and found.parameter.type is ValueType.RULE:
+        matches, incomplete = _rank(model, found.typed.lstrip("<").rstrip(">"), line)
+        items = [
+            types.CompletionItem(
+                label=f"<{entry.name}>",
+                kind=types.CompletionItemKind.Function,
+                detail=entry.detail or None,
+                sort_text=f"{rank:07d}",
+                text_edit=edit(f"<{entry.name}>"),
+            )
+            for rank, entry in enumerate(matches)
+        ]
+    elif found.where is Where.ARGUMENT:
+        items = [
+            types.CompletionItem(label=label, kind=kind, detail=detail or None, text_edit=edit(label))
+            for label, kind, detail in _values(model, found)
+        ]
+    elif found.where is Where.KEYWORD:
+        assert found.annotation is not None
+        given = {w.partition("=")[0] for w in found.words if "=" in w}
+        items = [
+            types.CompletionItem(
+                label=f"{p.name}=",
+                kind=types.CompletionItemKind.Property,
+                detail=p.help,
+                text_edit=edit(f"{p.name}="),
+            )
+            for p in found.annotation.keywords.values()
+            if p.name not in given
+        ]
+    elif found.where is Where.HEAD:
+        suffix = "" if found.closed else " ::= "
+        items = [
+            types.CompletionItem(
+                label=f"<{name}>",
+                kind=types.CompletionItemKind.Function,
+                detail=f"used in <{user}>, not defined yet",
+                filter_text=f"<{name}>",
+                text_edit=edit(f"<{name}>{suffix}"),
+            )
+            for name, user in model.undefined
+        ]
+        if not found.closed:
+            items.append(
+                _snippet("new rule", "<${1:name}> ::= ${2:a} | ${3:b}", "<name> ::= a | b", client, edit)
+            )
+    elif found.where is Where.RULE:
+        matches, incomplete = _rank(model, found.typed, line)
+        items = [
+            types.CompletionItem(
+                label=f"<{entry.name}>",
+                kind=types.CompletionItemKind.Function,
+                detail=entry.detail or None,
+                filter_text=f"<{entry.name}>" if found.bracket else entry.name,
+                sort_text=f"{rank:07d}",
+                text_edit=edit(f"<{entry.name}>"),
+            )
+            for rank, entry in enumerate(matches)
+        ]
+        if not found.bracket:
+            items += [
+                _snippet(label, body, plain, client, edit, sort=f"9{i}")
+                for i, (label, body, plain) in enumerate(RANGE_SNIPPETS)
+            ]
+    return types.CompletionList(is_incomplete=incomplete, items=items)
+
+
+def _rank(model: CompletionModel, typed: str, line: int) -> tuple[list[RuleEntry], bool]:
+    """Rules matching what is typed (exactly, by prefix, then inside), nearest first; at most
+    MAX_ITEMS, and whether more matched. One pass over the names and then only as many steps
+    as items: it runs on every keystroke, on the event loop."""
+    wanted = typed.lower()
+    if wanted:
+        tiers: list[Sequence[int]] = [[], [], []]
+        for index, name in enumerate(model.folded):
+            if wanted in name:
+                tiers[0 if name == wanted else 1 if name.startswith(wanted) else 2].append(index)
+    else:
+        tiers = [range(len(model.rules))]
+    chosen: list[int] = []
+    for tier in tiers:
+        chosen += _nearest(tier, model.lines, line, MAX_ITEMS - len(chosen))
+    return [model.rules[i] for i in chosen], sum(map(len, tiers)) > MAX_ITEMS
+
+
+def _nearest(indices: Sequence[int], lines: Sequence[int], line: int, count: int) -> list[int]:
+    """The ``count`` indices whose lines are nearest ``line`` (the earlier on a tie), nearest
+    first; ``indices`` ascend, and so do their lines."""
+    right = bisect_left(indices, line, key=lines.__getitem__)
+    left = right - 1
+    found: list[int] = []
+    while len(found) < count and (left >= 0 or right < len(indices)):
+        if right >= len(indices) or (
+            left >= 0 and line - lines[indices[left]] <= lines[indices[right]] - line
+        ):
+            found.append(indices[left])
+            left -= 1
+        else:
+            found.append(indices[right])
+            right += 1
+    return found
+
+
+RANGE_SNIPPETS = (
+    ("int[lo..hi]", "int[${1:0}..${2:10}]", "int[0..10]"),
+    ("float[lo..hi step s]", "float[${1:0}..${2:20} step ${3:0.25}]", "float[0..20 step 0.25]"),
+    ("float[lo..hi count n]", "float[${1:-3.14}..${2:3.14} count ${3:64}]", "float[-3.14..3.14 count 64]"),
+    ("float[x ± p% count n]", "float[${1:7.7} ± ${2:25}% count ${3:21}]", "float[7.7 ± 25% count 21]"),
+)
+
+
+def _snippet(label: str, body: str, plain: str, client: Client, edit, sort: str | None = None):
+    return types.CompletionItem(
+        label=label,
+        kind=types.CompletionItemKind.Snippet,
+        detail="typed range: one codon picks one value" if "[" in label else "a new rule",
+        insert_text_format=types.InsertTextFormat.Snippet
+        if client.snippets
+        else types.InsertTextFormat.PlainText,
+        text_edit=edit(body if client.snippets else plain),
+        sort_text=sort,
+    )
+
+
+def _values(model: CompletionModel, found: Context) -> list[tuple[str, types.CompletionItemKind, str]]:
+    """(label, kind, detail) for the value of ``found.parameter``."""
+    assert found.annotation is not None
+    assert found.parameter is not None
+    annotation, parameter = found.annotation.name, found.parameter
+    if parameter.choices:
+        return [(c, types.CompletionItemKind.EnumMember, parameter.help) for c in parameter.choices]
+    if annotation == "backend":
+        return [(name, types.CompletionItemKind.Module, _backend_summary(name)) for name in backend_names()]
+    if annotation == "joint" and parameter.name == "joint":
+        return [
+            (joint.name, types.CompletionItemKind.EnumMember, _joint_detail(joint, backend, model))
+            for backend, joint in sorted(
+                joints_of(model.backend), key=lambda bj: (bj[1].name in model.driven, bj[0])
+            )
+        ]
+    if annotation == "joint":
+        positional = [w for w in found.words if "=" not in w]
+        joint = next((j for _, j in joints_of(model.backend) if positional and j.name == positional[0]), None)
+        if joint is None:
+            return []
+        if parameter.name == "limits":
+            scale = Decimal(1) if model.units == "deg" else Decimal("0.017453292519943295")
+            low, high = (_number(Decimal(str(v)) * scale) for v in joint.limits)
+            return [(f"{low}..{high}", types.CompletionItemKind.Value, "the backend's limits")]
+        if parameter.name == "free":
+            return [
+                (f"{joint.free_from}..", types.CompletionItemKind.Value, "as in Table 3 of the paper"),
+                ("0..", types.CompletionItemKind.Value, "from the start"),
+            ]
+    return []
+
+
+def _number(value: Decimal) -> str:
+    text = f"{value:.4f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def joints_of(backend: str | None) -> list[tuple[str, Joint]]:
+    """(backend, joint) for the declared backend, or for every installed one if none is."""
+    names = [backend] if backend else list(backend_names())
+    found = []
+    for name in names:
+        try:
+            catalogue = get_backend(name).catalogue
+        except (BackendNotFound, BackendLoadError):
+            continue
+        if catalogue is not None:
+            found += [(name, joint) for joint in catalogue.joints]
+    return found
+
+
+def _joint_detail(joint: Joint, backend: str, model: CompletionModel) -> str:
+    limits = f"{joint.limits[0]:g}..{joint.limits[1]:g}°"
+    driven = model.driven.get(joint.name)
+    where = "" if model.backend else f" ({backend})"
+    return f"{joint.group}, {limits}, free from generation {joint.free_from}{where}" + (
+        f"; driven by <{driven}>" if driven else ""
+    )
+
+
+def _backend_summary(name: str) -> str:
+    try:
+        return get_backend(name).summary
+    except (BackendNotFound, BackendLoadError) as error:
+        return str(error)
+
+
+def _annotation_doc(kind: AnnotationKind) -> str:
+    parameters = "\n".join(f"- `{p.name}`: {p.help}" for p in kind.parameters)
+    return f"{kind.summary}\n\n```\n{kind.example}\n```" + (f"\n\n{parameters}" if parameters else "")
+
+
+def _documentation(text: str, client: Client) -> types.MarkupContent | str:
+    return types.MarkupContent(kind=types.MarkupKind.Markdown, value=text) if client.markdown else text

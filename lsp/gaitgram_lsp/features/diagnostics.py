@@ -1,0 +1,63 @@
+"""``gaitgram check``'s diagnostics as LSP diagnostics: the same codes, messages, spans and
+severities (hints are shown by hover and used by code actions).
+
+They are made in LSP's wire form, plain JSON values, because a grammar can have thousands
+and lsprotocol's classes cost ten times as much to build and then to unstructure again:
+on a 5,000-rule document that difference is most of the time from an edit to its
+diagnostics on screen. The classes are made from the wire form only where pygls needs
+them (pull diagnostics).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from lsprotocol import types
+from pygls.protocol import default_converter
+
+from gaitgram.analysis import CheckResult
+from gaitgram.diagnostics import Severity
+from gaitgram_lsp.positions import PositionIndex
+
+SOURCE = "gaitgram"
+
+SEVERITY = {
+    Severity.ERROR: types.DiagnosticSeverity.Error,
+    Severity.WARNING: types.DiagnosticSeverity.Warning,
+    Severity.INFO: types.DiagnosticSeverity.Information,
+}
+
+#: Rendered faded by editors: code that does nothing.
+_UNNECESSARY = frozenset({"GG204"})
+
+WireDiagnostic = dict[str, Any]
+
+_converter = default_converter()
+
+
+def wire_diagnostics(result: CheckResult, positions: PositionIndex) -> list[WireDiagnostic]:
+    """The diagnostics as the JSON that ``textDocument/publishDiagnostics`` carries."""
+    found = []
+    for d in result.diagnostics:
+        (start_line, start), (end_line, end) = (
+            positions.line_character(d.span.start),
+            positions.line_character(d.span.end),
+        )
+        wire: WireDiagnostic = {
+            "range": {
+                "start": {"line": start_line, "character": start},
+                "end": {"line": end_line, "character": end},
+            },
+            "message": d.message,
+            "severity": SEVERITY[d.level].value,
+            "code": d.code.code,
+            "source": SOURCE,
+        }
+        if d.code.code in _UNNECESSARY:
+            wire["tags"] = [types.DiagnosticTag.Unnecessary.value]
+        found.append(wire)
+    return found
+
+
+def to_lsp(wire: list[WireDiagnostic]) -> list[types.Diagnostic]:
+    return _converter.structure(wire, list[types.Diagnostic])

@@ -1,0 +1,313 @@
+"""Incremental parsing: after an edit, read again only the parts of a document it touched.
+
+A full ``parse`` of a 5,000-rule grammar takes a third of a second, most of it in the
+scanner and the model builder, so the server cannot afford one per keystroke. But the
+scanner has no state at a line that starts with an item: every line start is a token
+boundary in body mode (no piece crosses a line break, and a rule head that does cannot
+be followed by another head on the line it reaches). So a document splits, without
+parsing, into *segments* that read the same alone as in place. A segment starts at a
+line that begins with a rule head, provided the item line before it was a rule head too:
+then no annotation is pending there, and every annotation stays in the segment of the
+rule it annotates.
+
+Each segment is read once and kept, keyed by its text; after an edit only new texts are
+read. A kept segment that moved has its spans shifted in place, which is cheap, but it
+means a :class:`~gaitgram.language.model.Grammar` from an earlier call must not be read
+once a later call has started (``documents.py`` guarantees it).
+
+What depends on the whole document is recomputed from the segments, as the builder does:
+``@start``/``@backend``/``@units`` (and GG404 for repeats), GG207, and the ``@define``
+values that ``GE_RANGE:name`` reads. ``tests/lsp/test_lsp_incremental.py`` checks that the
+result equals ``parse(text)``, spans and diagnostics included, over random edits.
+"""
+
+from __future__ import annotations
+
+import re
+from bisect import bisect_right
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import cache
+
+from gaitgram._gc import gc_paused
+from gaitgram.diagnostics import Diagnostic, diagnostic
+from gaitgram.language import parse
+from gaitgram.language.annotations import ANNOTATIONS, Target, check_annotation
+from gaitgram.language.builder import build_grammar
+from gaitgram.language.model import Annotation, Grammar, JointDecl, Name, Rule, RuleRef
+from gaitgram.language.parser import parse_tree, scanner
+from gaitgram.language.source import SourceText, Span
+
+#: With more new segments than this (and than a quarter of them), one full parse is cheaper.
+FULL_PARSE_AT = 64
+
+
+@cache
+def _item_lines() -> re.Pattern[str]:
+    """The scanner's structural tokens (rule heads, annotations), at line starts only."""
+    return re.compile(f"(?m:^)(?:{scanner().structural.pattern})")
+
+
+def segment_starts(text: str) -> list[int]:
+    """Offsets where independent segments start (always 0 first)."""
+    starts = [0]
+    previous_was_rule = False
+    for found in _item_lines().finditer(text):
+        is_rule = found.lastgroup == "RULE_HEAD"
+        if is_rule and previous_was_rule and found.start() > 0:
+            starts.append(found.start())
+        previous_was_rule = is_rule
+    return starts
+
+
+@dataclass(eq=False)
+class Segment:
+    """What one segment reads as, with spans at ``base`` (its current offset in the document)."""
+
+    text: str
+    base: int
+    rules: tuple[Rule, ...]
+    annotations: tuple[Annotation, ...]
+    joints: tuple[JointDecl, ...]
+    problems: tuple[Diagnostic, ...]  # the builder's, minus the document-wide ones
+    defines: dict[str, int]  # its own @define values
+    #: For a segment with ``GE_RANGE:``: the document's defines it was read with.
+    read_with: tuple[tuple[str, int], ...] | None = None
+    _spans: list[Span] | None = field(default=None, repr=False)
+
+    @property
+    def needs_defines(self) -> bool:
+        return "GE_RANGE:" in self.text
+
+    def move_to(self, base: int) -> None:
+        """Shift every span in place (each span object once: the model shares them)."""
+        delta = base - self.base
+        if delta == 0:
+            return
+        if self._spans is None:
+            self._spans = _unique_spans(self)
+        for span in self._spans:
+            span.start += delta
+            span.end += delta
+        self.base = base
+
+
+def _unique_spans(segment: Segment) -> list[Span]:
+    seen: dict[int, Span] = {}
+
+    def add(span: Span) -> None:
+        seen[id(span)] = span
+
+    for rule in segment.rules:
+        add(rule.span)
+        add(rule.name_span)
+        for alternative in rule.alternatives:
+            add(alternative.span)
+            for symbol in alternative.symbols:
+                add(symbol.span)
+    for annotation in segment.annotations:
+        add(annotation.span)
+        add(annotation.name_span)
+        for argument in annotation.arguments:
+            add(argument.span)
+    for joint in segment.joints:
+        add(joint.span)
+    for problem in segment.problems:
+        add(problem.span)
+    return list(seen.values())
+
+
+def _is_document_wide(problem: Diagnostic) -> bool:
+    """GG207 and the builder's repeated-@start/@backend/@units GG404 (a repeated @joint has a rule)."""
+    return problem.code.code == "GG207" or (problem.code.code == "GG404" and problem.rule is None)
+
+
+def _own_defines(annotations: tuple[Annotation, ...]) -> dict[str, int]:
+    defines: dict[str, int] = {}
+    for annotation in annotations:
+        if annotation.name == "define":
+            for key, value in check_annotation(annotation, []).values.items():
+                if isinstance(value, int):
+                    defines[key] = value
+    return defines
+
+
+def _read_segment(text: str, start: int, end: int, defines: Mapping[str, int]) -> Segment:
+    """Read ``text[start:end]`` alone. A one-line comment pads it to its place, so its spans
+    come out absolute without a pass to shift them."""
+    padded = ("#" * (start - 1) + "\n" if start else "") + text[start:end]
+    grammar = build_grammar(parse_tree(padded), SourceText(padded), defines)
+    segment = Segment(
+        text=text[start:end],
+        base=start,
+        rules=grammar.rules,
+        annotations=grammar.annotations,
+        joints=grammar.joints,
+        problems=tuple(d for d in grammar.diagnostics if not _is_document_wide(d)),
+        defines=_own_defines(grammar.annotations),
+    )
+    if segment.needs_defines:
+        segment.read_with = tuple(sorted(defines.items()))
+    return segment
+
+
+def _split_grammar(grammar: Grammar, starts: list[int], ends: list[int]) -> list[Segment]:
+    """Cut a full parse into segments (every span lies inside the segment it belongs to)."""
+    text = grammar.source.text
+    buckets: list[tuple[list, list, list, list]] = [([], [], [], []) for _ in starts]
+
+    def where(offset: int) -> int:
+        return max(0, bisect_right(starts, offset) - 1)
+
+    for rule in grammar.rules:
+        buckets[where(rule.name_span.start)][0].append(rule)
+    for annotation in grammar.annotations:
+        buckets[where(annotation.span.start)][1].append(annotation)
+    for joint in grammar.joints:
+        buckets[where(joint.span.start)][2].append(joint)
+    for problem in grammar.diagnostics:
+        if not _is_document_wide(problem):
+            buckets[where(problem.span.start)][3].append(problem)
+    read_with = tuple(sorted(grammar.defines.items()))
+    segments = []
+    for start, end, (rules, notes, joints, problems) in zip(starts, ends, buckets, strict=True):
+        segment = Segment(
+            text=text[start:end],
+            base=start,
+            rules=tuple(rules),
+            annotations=tuple(notes),
+            joints=tuple(joints),
+            problems=tuple(problems),
+            defines=_own_defines(tuple(notes)),
+        )
+        if segment.needs_defines:
+            segment.read_with = read_with
+        segments.append(segment)
+    return segments
+
+
+class IncrementalParser:
+    """``parse`` for one document that changes a little at a time. Not thread-safe: one
+    document's parses run one after another."""
+
+    def __init__(
+        self, defines: Mapping[str, int] | None = None, *, full_parse_at: int = FULL_PARSE_AT
+    ) -> None:
+        self.external_defines = dict(defines or {})
+        self.full_parse_at = full_parse_at
+        self._kept: dict[str, list[Segment]] = {}
+        self._defines: dict[str, int] = dict(self.external_defines)
+        #: How the last call went: "full", or how many segments it read.
+        self.last_reads: str | int = "full"
+
+    def reset(self) -> None:
+        """Forget every kept segment: the next parse reads the whole document."""
+        self._kept = {}
+        self._defines = dict(self.external_defines)
+
+    def parse(self, text: str | SourceText) -> Grammar:
+        """The same grammar as ``parse(text)``; the previous result's spans may move."""
+        with gc_paused():
+            return self._parse(text if isinstance(text, SourceText) else SourceText(text))
+
+    def _parse(self, source: SourceText) -> Grammar:
+        text = source.text
+        starts = segment_starts(text)
+        ends = [*starts[1:], len(text)]
+        kept = self._kept
+        segments: list[Segment | None] = []
+        missing: list[int] = []
+        for i, (start, end) in enumerate(zip(starts, ends, strict=True)):
+            bucket = kept.get(text[start:end])
+            if bucket:
+                segments.append(bucket.pop())
+            else:
+                segments.append(None)
+                missing.append(i)
+
+        if len(missing) > max(self.full_parse_at, len(starts) // 4):
+            grammar = parse(source, defines=self.external_defines)
+            self._keep(_split_grammar(grammar, starts, ends), grammar.defines)
+            self.last_reads = "full"
+            return grammar
+
+        for i in missing:
+            segments[i] = _read_segment(text, starts[i], ends[i], self._defines)
+        ready: list[Segment] = segments  # type: ignore[assignment]  # every hole is filled
+        for segment, start in zip(ready, starts, strict=True):
+            segment.move_to(start)
+        defines: dict[str, int] = {}
+        for segment in ready:
+            defines.update(segment.defines)
+        defines.update(self.external_defines)
+        key = tuple(sorted(defines.items()))
+        reread = 0
+        for i, segment in enumerate(ready):
+            if segment.needs_defines and segment.read_with != key:
+                ready[i] = _read_segment(text, starts[i], ends[i], defines)
+                reread += 1
+        self._keep(ready, defines)
+        self.last_reads = len(missing) + reread
+        return _assemble(source, ready, defines)
+
+    def _keep(self, segments: list[Segment], defines: dict[str, int]) -> None:
+        kept: dict[str, list[Segment]] = {}
+        for segment in reversed(segments):  # popped from the end: first occurrence first
+            kept.setdefault(segment.text, []).append(segment)
+        self._kept = kept
+        self._defines = defines
+
+
+def _assemble(source: SourceText, segments: list[Segment], defines: dict[str, int]) -> Grammar:
+    """The document's grammar from its segments, plus what ``build_grammar`` works out for
+    the whole document."""
+    rules: list[Rule] = []
+    annotations: list[Annotation] = []
+    joints: list[JointDecl] = []
+    problems: list[Diagnostic] = []
+    for segment in segments:
+        rules.extend(segment.rules)
+        annotations.extend(segment.annotations)
+        joints.extend(segment.joints)
+        problems.extend(segment.problems)
+
+    file_level = []
+    for annotation in annotations:
+        kind = ANNOTATIONS.get(annotation.name)
+        if kind is not None and kind.target is Target.FILE:
+            file_level.append(check_annotation(annotation, []))
+
+    def single(name: str) -> object:
+        found = [c for c in file_level if c.annotation.name == name]
+        for extra in found[1:]:
+            problems.append(
+                diagnostic(
+                    "GG404",
+                    f"@{name} is given more than once; the first one counts",
+                    extra.annotation.span,
+                    hint="delete the extra one",
+                )
+            )
+        return next(iter(found[0].values.values()), None) if found else None
+
+    start, backend, units = single("start"), single("backend"), single("units")
+    if not rules and not problems:
+        problems.append(
+            diagnostic(
+                "GG207",
+                "no rules: a grammar needs at least one <name> ::= ... rule",
+                Span(0, 0),
+                hint="for example: <prog> ::= x | y",
+            )
+        )
+    return Grammar(
+        source=source,
+        rules=tuple(rules),
+        annotations=tuple(annotations),
+        start=start.name if isinstance(start, RuleRef) else (rules[0].name if rules else None),
+        backend=backend.text if isinstance(backend, Name) else None,
+        units=units.text if isinstance(units, Name) else "deg",
+        joints=tuple(joints),
+        defines=defines,
+        diagnostics=tuple(sorted(problems, key=lambda d: d.span)),
+    )

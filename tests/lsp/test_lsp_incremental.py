@@ -1,0 +1,108 @@
+"""The incremental parser gives exactly ``parse(text)``: the same rules, annotations, joints,
+spans and diagnostics, after any sequence of edits, by either of its two paths (reading the
+new segments alone, or one full parse cut into segments)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from gaitgram.analysis import check
+from gaitgram.language import parse
+from gaitgram_lsp.incremental import IncrementalParser, segment_starts
+
+GRAMMARS = Path(__file__).resolve().parents[2] / "grammars"
+
+PIECES = [
+    "<a>",
+    "<b>",
+    "<a> ::=",
+    "<b>::=",
+    " ::= ",
+    "|",
+    " | ",
+    "\n",
+    "\n",
+    "\n<c> ::= y\n",
+    "  ",
+    "#",
+    "# c\n",
+    "'",
+    '"',
+    "'x'",
+    "\\",
+    "int[",
+    "float[",
+    "0..3",
+    "]",
+    "@",
+    "@start <b>\n",
+    "\n@joint hip_hind\n",
+    "@backend",
+    "@units rad\n",
+    "@define n=3\n",
+    "GE_RANGE:n",
+    "GE_RANGE:2",
+    " limits=",
+    "-5..5",
+    "x",
+    "é",
+    "😀",
+    "\t",
+    "\r\n",
+]
+SEEDS = [""] + [path.read_text() for path in sorted(GRAMMARS.glob("*.gg"))[:4]]
+texts = st.one_of(st.sampled_from(SEEDS), st.lists(st.sampled_from(PIECES), max_size=40).map("".join))
+edit = st.tuples(
+    st.floats(0, 1), st.integers(0, 12), st.lists(st.sampled_from(PIECES), max_size=3).map("".join)
+)
+
+
+def same(incremental: IncrementalParser, text: str) -> None:
+    ours, full = incremental.parse(text), parse(text)
+    for part in ("rules", "annotations", "joints", "start", "backend", "units", "defines", "diagnostics"):
+        assert getattr(ours, part) == getattr(full, part), part
+    assert check(ours).diagnostics == check(full).diagnostics
+
+
+@settings(max_examples=150, deadline=None)
+@given(text=texts, edits=st.lists(edit, max_size=12), full_parse_at=st.sampled_from([0, 64]))
+def test_any_edits_give_the_full_parse(text: str, edits, full_parse_at: int) -> None:
+    incremental = IncrementalParser(full_parse_at=full_parse_at)
+    same(incremental, text)
+    for where, length, inserted in edits:
+        start = round(where * len(text))
+        text = text[:start] + inserted + text[start + length :]
+        same(incremental, text)
+
+
+def test_a_5000_rule_document_reads_one_segment_per_edited_rule() -> None:
+    from benchmarks.bench_check import generated_grammar
+
+    text = generated_grammar(5_000)
+    incremental = IncrementalParser()
+    same(incremental, text)
+    assert incremental.last_reads == "full"
+    lines = text.split("\n")
+    for line in (2, 2_500, 4_999):
+        lines[line] = lines[line] + " | <r3>"
+        text = "\n".join(lines)
+        same(incremental, text)
+        assert incremental.last_reads == 1
+
+
+@pytest.mark.parametrize(
+    ("text", "starts"),
+    [
+        ("<a> ::= x\n<b> ::= y\n", [0, 10]),
+        ("<a> ::= x\n@joint hip\n<b> ::= y\n<c> ::= z\n", [0, 31]),  # @joint stays with <b>
+        ("<a> ::= x <b> ::= y\n<c> ::= z\n", [0, 20]),  # a head mid-line starts no segment
+        ("<a> ::= 'x\n<b> ::= y\n", [0, 11]),
+        (" <a> ::= x\n<b> ::= y\n", [0]),  # an indented head is not at a line start
+    ],
+)
+def test_segments_start_at_rule_lines_with_nothing_pending(text: str, starts: list[int]) -> None:
+    assert segment_starts(text) == starts
