@@ -1,8 +1,10 @@
 """The paper's grammar styles, written from the seed's Fourier analysis.
 
 Every style annotates each curve with its ``@joint`` and the backend's limits,
-uses typed ranges where the paper writes out value lists, and passes
-``gaitgram check --strict``. The shipped files in ``grammars/`` are these
+uses typed ranges where the paper writes out value lists, passes ``gaitgram check
+--strict``, and passes ``gaitgram test``: each curve stays finite and within its joint's
+limits by construction, where the paper's grammars as printed do not (see the constants
+below and docs/motion.md). The shipped files in ``grammars/`` are these
 functions' output; a test regenerates them and compares byte for byte.
 """
 
@@ -12,10 +14,14 @@ import math
 from collections.abc import Callable, Mapping
 from enum import StrEnum
 
+import numpy as np
+
 from gaitgram.analysis.cfg import RuleKind, build_cfg
 from gaitgram.backends.catalogue import JointCatalogue
 from gaitgram.backends.mujoco_horse import CATALOGUE
 from gaitgram.language.model import Grammar
+from gaitgram.language.ranges import parse_range
+from gaitgram.motion.expression import Motion, compile_motion, phase_grid
 from gaitgram.motion.fourier import SineFit, SineTerm, fit_sum_of_sines
 from gaitgram.seed.data import SeedCurves
 
@@ -30,16 +36,28 @@ class Style(StrEnum):
 
 
 SUMMARIES = {
-    Style.NUMERICAL: "each seed number optimised within 25 % of itself (Sec. 4.1)",
-    Style.CONCATENATING: "sine and cosine terms added to or subtracted from the seed curves (Fig. 2)",
+    Style.NUMERICAL: "each seed number optimised within 25 % of itself, or less near the limits (Sec. 4.1)",
+    Style.CONCATENATING: "up to 3 sine and cosine terms added to or subtracted from the seed curves (Fig. 2)",
     Style.HYBRID: "the seed's numbers optimised plus concatenated terms: the paper's overall winner",
-    Style.SINUSOIDAL: "free-style sums of sines in the seed's frequency and amplitude ranges (Sec. 4.3)",
-    Style.FREE: "arbitrary expressions of t (Fig. 5)",
+    Style.SINUSOIDAL: "free sums of up to 3 sines in the seed's frequency and amplitude ranges (Sec. 4.3)",
+    Style.FREE: "arbitrary expressions of t (Fig. 5), one sine of one per joint",
     Style.JOINT_FREEDOM: "the concatenating grammar with Table 3's generational joint freedom",
 }
 
 #: Values in a relative range: the paper's parameterised optimisation, within 25 %.
 RELATIVE_COUNT = 11
+#: Relative windows tried for a curve's numbers, widest first: the paper's 25 %, or less
+#: where 25 % would let the curve leave its joint's limits (0: the seed's numbers as they are).
+RELATIVE_WINDOWS = (25, 20, 15, 10, 5, 2, 0)
+#: Fig. 2 concatenates any number of functions, each up to 20 degrees, and Sec. 4.3 sums
+#: any number of sines: unbounded sums that leave every joint's limits. Here a curve gets
+#: at most this many, scaled by a gain per joint sized from the room left within its limits.
+MAX_TERMS = 3
+FUNCTION_AMPLITUDE = 20.0
+#: Sec. 4.3's offsets: within this many degrees of the seed's.
+OFFSET_REACH = 5.0
+#: Phases at which curve bounds are worked out (a multiple of ``gaitgram test``'s 256).
+BOUND_SAMPLES = 2048
 
 
 def fit_seed(seed: SeedCurves, threshold: float = 1.0) -> dict[str, SineFit]:
@@ -88,32 +106,86 @@ def _num(value: float) -> str:
     return "0" if text in ("-0", "") else text
 
 
-def _relative(value: float, kind: str = "float") -> str:
-    """A typed range within 25 % of ``value``; a zero stays a literal."""
-    if value == 0:
-        return "0"
+def _relative(value: float, window: int, kind: str = "float") -> str:
+    """A typed range within ``window`` % of ``value``; a zero stays a literal."""
+    if value == 0 or window == 0:
+        return str(int(value)) if kind == "int" else _num(value)
     if kind == "int":
-        return f"int[{int(value)} ± 25%]"
-    return f"float[{_num(value)} ± 25% count {RELATIVE_COUNT}]"
+        return f"int[{int(value)} ± {window}%]"
+    return f"float[{_num(value)} ± {window}% count {RELATIVE_COUNT}]"
 
 
-def _numerical_curve(fit: SineFit) -> str:
-    parts = [_relative(round(fit.offset, 2))]
+def _values(text: str) -> np.ndarray:
+    """The numbers a literal or a typed range can derive."""
+    if "[" not in text:
+        return np.array([float(text)])
+    spec, problems = parse_range(text)
+    assert spec is not None, problems
+    return np.array([float(v) for v in spec.values])
+
+
+def _numerical_curve(fit: SineFit, window: int) -> tuple[str, tuple[float, float]]:
+    """The seed curve with each number free within ``window`` %, and the lowest and highest
+    angle any of its derivations reaches (terms have independent numbers, so the bound
+    is the offset's plus each term's own)."""
+    phases = phase_grid(BOUND_SAMPLES)
+    offset = _relative(round(fit.offset, 2), window)
+    parts = [offset]
+    low, high = np.full_like(phases, _values(offset).min()), np.full_like(phases, _values(offset).max())
     for term in fit.terms:
-        phase = round(term.phase, 2)
-        phase_text = _relative(phase)
-        parts.append(
-            f"{_relative(round(term.amplitude, 2))}*sin({_relative(term.harmonic, 'int')}*2*PI*t"
-            f"+{phase_text})"
-        )
-    return "+".join(parts)
+        amplitude = _relative(round(term.amplitude, 2), window)
+        harmonic = _relative(term.harmonic, window, "int")
+        phase = _relative(round(term.phase, 2), window)
+        parts.append(f"{amplitude}*sin({harmonic}*2*PI*t+{phase})")
+        waves = np.sin(
+            2 * np.pi * _values(harmonic)[:, None, None] * phases + _values(phase)[None, :, None]
+        ).reshape(-1, phases.size)
+        amplitudes = _values(amplitude)
+        low += np.minimum(amplitudes.min() * waves, amplitudes.max() * waves).min(axis=0)
+        high += np.maximum(amplitudes.min() * waves, amplitudes.max() * waves).max(axis=0)
+    return "+".join(parts), (float(low.min()), float(high.max()))
+
+
+def _fitting_curve(
+    fit: SineFit, limits: tuple[float, float], keep: float = 0.0
+) -> tuple[str, tuple[float, float]]:
+    """The numerical curve with the widest window that keeps it within ``limits`` and leaves
+    at least ``keep`` of the room the seed itself leaves there (for concatenated functions)."""
+    seed_low, seed_high = _seed_bounds(fit)
+    wanted = keep * min(limits[1] - seed_high, seed_low - limits[0])
+    for window in RELATIVE_WINDOWS:
+        text, (low, high) = _numerical_curve(fit, window)
+        if min(limits[1] - high, low - limits[0]) >= wanted:
+            return text, (low, high)
+    raise ValueError(f"the seed curve {fit.text} leaves too little room within {limits}")
+
+
+def _seed_bounds(fit: SineFit) -> tuple[float, float]:
+    motion = compile_motion(fit.text)
+    assert isinstance(motion, Motion), motion
+    values = motion.evaluate(phase_grid(BOUND_SAMPLES)).values
+    return float(values.min()), float(values.max())
+
+
+def _gain(
+    limits: tuple[float, float], bounds: tuple[float, float], amplitude: float = FUNCTION_AMPLITUDE
+) -> str:
+    """The factor on up to MAX_TERMS added terms of at most ``amplitude`` that keeps a curve
+    reaching ``bounds`` without them within ``limits``, rounded down to two decimals."""
+    room = min(limits[1] - bounds[1], bounds[0] - limits[0])
+    return _num(min(1.0, math.floor(100 * room / (MAX_TERMS * amplitude)) / 100))
 
 
 def _funcs_rules() -> list[str]:
-    """Fig. 2's concatenated functions, value lists written as typed ranges."""
+    """Fig. 2's concatenated functions, value lists written as typed ranges, at most
+    MAX_TERMS of them."""
+    chains = ["<op>".join(["<func>"] * count) for count in range(1, MAX_TERMS + 1)]
     return [
-        "# Functions added to (or subtracted from) a curve (Fig. 2).",
-        "<funcs> ::= <funcs><op><funcs> | <function> | <med_amp_var>",
+        f"# Functions added to (or subtracted from) a curve (Fig. 2), at most {MAX_TERMS}: Fig. 2's",
+        "# <funcs> ::= <funcs><op><funcs> adds any number, and so leaves every joint's limits.",
+        "# Each curve scales them by a gain that keeps it within its joint's limits.",
+        "<funcs> ::= " + " | ".join(chains),
+        "<func> ::= <function> | <med_amp_var>",
         "<op> ::= + | -",
         "<function> ::= <low_amp_var>*sin(<low_freq_var>*2*PI*t) | <low_amp_var>*cos(<low_freq_var>*2*PI*t)"
         " | <med_amp_var>*sin(<med_freq_var>*2*PI*t) | <med_amp_var>*cos(<med_freq_var>*2*PI*t)"
@@ -128,34 +200,43 @@ def _funcs_rules() -> list[str]:
     ]
 
 
+def _limits(joint: str, catalogue: JointCatalogue) -> tuple[float, float]:
+    known = catalogue.get(joint)
+    assert known is not None
+    return known.limits
+
+
 def _numerical(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
     lines = []
     for joint in joints:
-        lines += [_joint_annotation(joint, catalogue), f"<{joint}> ::= {_numerical_curve(fits[joint])}", ""]
+        curve, _ = _fitting_curve(fits[joint], _limits(joint, catalogue))
+        lines += [_joint_annotation(joint, catalogue), f"<{joint}> ::= {curve}", ""]
     return lines
 
 
 def _seed_plus_funcs(
     joints: list[str],
     catalogue: JointCatalogue,
-    seed_rules: Mapping[str, str],
+    seed_rules: Mapping[str, tuple[str, tuple[float, float]]],
     prefix: str,
     comment: str,
     *,
     freedom: bool = False,
 ) -> list[str]:
-    """Fig. 2's shape: each curve is its seed rule, optionally plus concatenated functions."""
+    """Fig. 2's shape: each curve is its seed rule, optionally plus concatenated functions
+    (``seed_rules`` gives each seed's text and the angles it can reach)."""
     lines = []
     for joint in joints:
         rule = f"<{prefix}_{joint}>"
+        gain = _gain(_limits(joint, catalogue), seed_rules[joint][1])
         lines += [
             _joint_annotation(joint, catalogue, freedom=freedom),
-            f"<{joint}> ::= {rule} | {rule}+<funcs>",
+            f"<{joint}> ::= {rule} | {rule}+{gain}*(<funcs>)",
             "",
         ]
     lines += _funcs_rules()
     lines += [comment]
-    lines += [f"<{prefix}_{joint}> ::= {seed_rules[joint]}" for joint in joints]
+    lines += [f"<{prefix}_{joint}> ::= {seed_rules[joint][0]}" for joint in joints]
     return lines
 
 
@@ -163,13 +244,16 @@ def _concatenating(
     joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue, *, freedom: bool = False
 ) -> list[str]:
     comment = "# The seed: the Fourier analysis of seeds/horse_walk.csv, terms under the threshold dropped."
-    seeds = {joint: fits[joint].text for joint in joints}
+    seeds = {joint: (fits[joint].text, _seed_bounds(fits[joint])) for joint in joints}
     return _seed_plus_funcs(joints, catalogue, seeds, "seed", comment, freedom=freedom)
 
 
 def _hybrid(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
-    comment = "# The seed, each number free to move within 25 % of itself."
-    seeds = {joint: _numerical_curve(fits[joint]) for joint in joints}
+    comment = (
+        "# The seed, each number free within 25 % of itself, or less where that would leave\n"
+        "# the functions under half of the room the seed leaves within the limits."
+    )
+    seeds = {joint: _fitting_curve(fits[joint], _limits(joint, catalogue), keep=0.5) for joint in joints}
     return _seed_plus_funcs(joints, catalogue, seeds, "num", comment)
 
 
@@ -177,20 +261,25 @@ def _sinusoidal(joints: list[str], fits: Mapping[str, SineFit], catalogue: Joint
     terms: list[SineTerm] = [t for j in joints for t in fits[j].terms]
     max_harmonic = max((t.harmonic for t in terms), default=1)
     max_amplitude = math.ceil(max((t.amplitude for t in terms), default=1.0))
-    offsets = [fits[j].offset for j in joints]
-    low, high = math.floor(min(offsets)), math.ceil(max(offsets))
     lines = []
     for joint in joints:
-        lines += [_joint_annotation(joint, catalogue), f"<{joint}> ::= <offset>+<terms>", ""]
+        offset = round(2 * fits[joint].offset) / 2
+        low, high = offset - OFFSET_REACH, offset + OFFSET_REACH
+        gain = _gain(_limits(joint, catalogue), (low, high), max_amplitude)
+        lines += [
+            _joint_annotation(joint, catalogue),
+            f"<{joint}> ::= float[{_num(low)}..{_num(high)} step 0.5]+{gain}*(<terms>)",
+            "",
+        ]
     lines += [
-        f"# Ranges observed in the seed: harmonics 1..{max_harmonic}, amplitudes up to {max_amplitude},",
-        f"# offsets {low}..{high}.",
-        "<terms> ::= <term> | <term>+<terms>",
+        f"# Ranges observed in the seed: harmonics 1..{max_harmonic}, amplitudes up to {max_amplitude};",
+        f"# each curve's offset within {_num(OFFSET_REACH)} of its seed's, and at most {MAX_TERMS} terms,",
+        "# scaled by a gain that keeps the curve within its joint's limits.",
+        "<terms> ::= " + " | ".join("+".join(["<term>"] * n) for n in range(1, MAX_TERMS + 1)),
         "<term> ::= <amplitude>*sin(<harmonic>*2*PI*t+<phase>)",
         f"<harmonic> ::= int[1..{max_harmonic}]",
         f"<amplitude> ::= float[0..{max_amplitude} step 0.25]",
         "<phase> ::= float[-3.14..3.14 count 64]",
-        f"<offset> ::= float[{low}..{high} step 0.5]",
     ]
     return lines
 
@@ -198,11 +287,18 @@ def _sinusoidal(joints: list[str], fits: Mapping[str, SineFit], catalogue: Joint
 def _free(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
     lines = []
     for joint in joints:
-        lines += [_joint_annotation(joint, catalogue), f"<{joint}> ::= <expr>", ""]
+        limits = _limits(joint, catalogue)
+        centre = round(fits[joint].offset) if joint in fits else round(sum(limits) / 2)
+        reach = math.floor(min(limits[1] - centre, centre - limits[0]))
+        lines += [_joint_annotation(joint, catalogue), f"<{joint}> ::= {centre}+{reach}*sin(<expr>)", ""]
     lines += [
-        "# Fig. 5. The paper leaves <var> out; here it is a constant or t.",
+        "# Fig. 5, each curve one sine of a free expression, centred on the seed's offset and",
+        "# sized to the joint's limits: Fig. 5's bare expressions reach any angle. Its / and *",
+        "# are left out of <op>: a divisor (t, sin(0*t), x-x) can be zero, and nested products",
+        "# overflow to infinity at the depths GE reaches. Products remain inside sin and cos.",
+        "# The paper leaves <var> out; here it is a constant or t.",
         "<expr> ::= <expr><op><expr> | (<expr><op><expr>) | <pre-op>(<expr>*t) | <var>",
-        "<op> ::= + | - | / | *",
+        "<op> ::= + | -",
         "<pre-op> ::= sin | cos",
         "<var> ::= float[0..10 step 0.5] | t",
     ]
