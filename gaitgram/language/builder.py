@@ -54,6 +54,56 @@ def build_grammar(tree: Tree, source: SourceText, defines: Mapping[str, int] | N
     return _Builder(source, dict(defines or {})).build(tree)
 
 
+def assemble_grammar(
+    source: SourceText,
+    rules: list[Rule],
+    annotations: list[Annotation],
+    joints: list[JointDecl],
+    problems: list[Diagnostic],
+    file_level: list[CheckedAnnotation],
+    defines: dict[str, int],
+) -> Grammar:
+    """The grammar from its parts, with what only the whole document decides: the one
+    ``@start``/``@backend``/``@units`` (GG404 for repeats) and GG207 for no rules at all.
+    Shared with the language server's incremental parser, which reads parts separately."""
+    problems = list(problems)
+
+    def single(name: str) -> ArgumentValue | None:
+        found = [c for c in file_level if c.annotation.name == name]
+        for extra in found[1:]:
+            problems.append(
+                diagnostic(
+                    "GG404",
+                    f"@{name} is given more than once; the first one counts",
+                    extra.annotation.span,
+                    hint="delete the extra one",
+                )
+            )
+        return next(iter(found[0].values.values()), None) if found else None
+
+    start, backend, units = single("start"), single("backend"), single("units")
+    if not rules and not problems:
+        problems.append(
+            diagnostic(
+                "GG207",
+                "no rules: a grammar needs at least one <name> ::= ... rule",
+                Span(0, 0),
+                hint="for example: <prog> ::= x | y",
+            )
+        )
+    return Grammar(
+        source=source,
+        rules=tuple(rules),
+        annotations=tuple(annotations),
+        start=start.name if isinstance(start, RuleRef) else (rules[0].name if rules else None),
+        backend=backend.text if isinstance(backend, Name) else None,
+        units=units.text if isinstance(units, Name) else "deg",
+        joints=tuple(joints),
+        defines=defines,
+        diagnostics=tuple(sorted(problems, key=lambda d: d.span)),
+    )
+
+
 @dataclass
 class _Builder:
     source: SourceText
@@ -99,46 +149,15 @@ class _Builder:
                     )
                 )
 
-        start = self._single(file_level, "start")
-        backend = self._single(file_level, "backend")
-        units = self._single(file_level, "units")
-        joints = tuple(self._joints(rules, checked))
-        if not rules and not self.problems:
-            self.problems.append(
-                diagnostic(
-                    "GG207",
-                    "no rules: a grammar needs at least one <name> ::= ... rule",
-                    Span(0, 0),
-                    hint="for example: <prog> ::= x | y",
-                )
-            )
-        return Grammar(
-            source=self.source,
-            rules=tuple(rules),
-            annotations=tuple(annotations),
-            start=start.name if isinstance(start, RuleRef) else (rules[0].name if rules else None),
-            backend=backend.text if isinstance(backend, Name) else None,
-            units=units.text if isinstance(units, Name) else "deg",
-            joints=joints,
-            defines={**self.defines, **self.external_defines},
-            diagnostics=tuple(sorted(self.problems, key=lambda d: d.span)),
+        return assemble_grammar(
+            self.source,
+            rules,
+            annotations,
+            list(self._joints(rules, checked)),
+            self.problems,
+            file_level,
+            {**self.defines, **self.external_defines},
         )
-
-    def _single(self, checked: list[CheckedAnnotation], name: str) -> ArgumentValue | None:
-        found = [c for c in checked if c.annotation.name == name]
-        for extra in found[1:]:
-            self.problems.append(
-                diagnostic(
-                    "GG404",
-                    f"@{name} is given more than once; the first one counts",
-                    extra.annotation.span,
-                    hint="delete the extra one",
-                )
-            )
-        if not found:
-            return None
-        values = found[0].values
-        return next(iter(values.values()), None)
 
     def _collect_defines(self, checked: list[CheckedAnnotation]) -> None:
         for c in checked:

@@ -30,11 +30,11 @@ from dataclasses import dataclass, field
 from functools import cache
 
 from gaitgram._gc import gc_paused
-from gaitgram.diagnostics import Diagnostic, diagnostic
+from gaitgram.diagnostics import Diagnostic
 from gaitgram.language import parse
 from gaitgram.language.annotations import ANNOTATIONS, Target, check_annotation
-from gaitgram.language.builder import build_grammar
-from gaitgram.language.model import Annotation, Grammar, JointDecl, Name, Rule, RuleRef
+from gaitgram.language.builder import assemble_grammar, build_grammar
+from gaitgram.language.model import Annotation, Grammar, JointDecl, Rule
 from gaitgram.language.parser import parse_tree, scanner
 from gaitgram.language.source import SourceText, Span
 
@@ -259,8 +259,7 @@ class IncrementalParser:
 
 
 def _assemble(source: SourceText, segments: list[Segment], defines: dict[str, int]) -> Grammar:
-    """The document's grammar from its segments, plus what ``build_grammar`` works out for
-    the whole document."""
+    """The document's grammar from its segments, finished as ``build_grammar`` finishes one."""
     rules: list[Rule] = []
     annotations: list[Annotation] = []
     joints: list[JointDecl] = []
@@ -270,44 +269,9 @@ def _assemble(source: SourceText, segments: list[Segment], defines: dict[str, in
         annotations.extend(segment.annotations)
         joints.extend(segment.joints)
         problems.extend(segment.problems)
-
     file_level = []
     for annotation in annotations:
         kind = ANNOTATIONS.get(annotation.name)
         if kind is not None and kind.target is Target.FILE:
             file_level.append(check_annotation(annotation, []))
-
-    def single(name: str) -> object:
-        found = [c for c in file_level if c.annotation.name == name]
-        for extra in found[1:]:
-            problems.append(
-                diagnostic(
-                    "GG404",
-                    f"@{name} is given more than once; the first one counts",
-                    extra.annotation.span,
-                    hint="delete the extra one",
-                )
-            )
-        return next(iter(found[0].values.values()), None) if found else None
-
-    start, backend, units = single("start"), single("backend"), single("units")
-    if not rules and not problems:
-        problems.append(
-            diagnostic(
-                "GG207",
-                "no rules: a grammar needs at least one <name> ::= ... rule",
-                Span(0, 0),
-                hint="for example: <prog> ::= x | y",
-            )
-        )
-    return Grammar(
-        source=source,
-        rules=tuple(rules),
-        annotations=tuple(annotations),
-        start=start.name if isinstance(start, RuleRef) else (rules[0].name if rules else None),
-        backend=backend.text if isinstance(backend, Name) else None,
-        units=units.text if isinstance(units, Name) else "deg",
-        joints=tuple(joints),
-        defines=defines,
-        diagnostics=tuple(sorted(problems, key=lambda d: d.span)),
-    )
+    return assemble_grammar(source, rules, annotations, joints, problems, file_level, defines)
