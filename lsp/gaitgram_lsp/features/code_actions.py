@@ -32,7 +32,7 @@ from gaitgram.language.ranges import parse_range
 from gaitgram.language.source import Span
 from gaitgram_lsp.documents import Snapshot
 from gaitgram_lsp.features.completion import joints_of
-from gaitgram_lsp.features.diagnostics import SEVERITY, SOURCE
+from gaitgram_lsp.features.diagnostics import to_lsp, wire_diagnostic
 from gaitgram_lsp.features.navigation import rule_at
 
 QUICK_FIX = types.CodeActionKind.QuickFix
@@ -89,13 +89,7 @@ def _action(
 
 
 def _lsp(snapshot: Snapshot, found: Diagnostic) -> types.Diagnostic:
-    return types.Diagnostic(
-        range=snapshot.positions.range(found.span),
-        message=found.message,
-        severity=SEVERITY[found.level],
-        code=found.code.code,
-        source=SOURCE,
-    )
+    return to_lsp([wire_diagnostic(found, snapshot.positions)])[0]
 
 
 # ---- quick fixes ---------------------------------------------------------------------------------

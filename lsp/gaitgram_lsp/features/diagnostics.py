@@ -16,7 +16,7 @@ from lsprotocol import types
 from pygls.protocol import default_converter
 
 from gaitgram.analysis import CheckResult
-from gaitgram.diagnostics import Severity
+from gaitgram.diagnostics import Diagnostic, Severity
 from gaitgram_lsp.positions import PositionIndex
 
 SOURCE = "gaitgram"
@@ -37,26 +37,27 @@ _converter = default_converter()
 
 def wire_diagnostics(result: CheckResult, positions: PositionIndex) -> list[WireDiagnostic]:
     """The diagnostics as the JSON that ``textDocument/publishDiagnostics`` carries."""
-    found = []
-    for d in result.diagnostics:
-        (start_line, start), (end_line, end) = (
-            positions.line_character(d.span.start),
-            positions.line_character(d.span.end),
-        )
-        wire: WireDiagnostic = {
-            "range": {
-                "start": {"line": start_line, "character": start},
-                "end": {"line": end_line, "character": end},
-            },
-            "message": d.message,
-            "severity": SEVERITY[d.level].value,
-            "code": d.code.code,
-            "source": SOURCE,
-        }
-        if d.code.code in _UNNECESSARY:
-            wire["tags"] = [types.DiagnosticTag.Unnecessary.value]
-        found.append(wire)
-    return found
+    return [wire_diagnostic(d, positions) for d in result.diagnostics]
+
+
+def wire_diagnostic(found: Diagnostic, positions: PositionIndex) -> WireDiagnostic:
+    (start_line, start), (end_line, end) = (
+        positions.line_character(found.span.start),
+        positions.line_character(found.span.end),
+    )
+    wire: WireDiagnostic = {
+        "range": {
+            "start": {"line": start_line, "character": start},
+            "end": {"line": end_line, "character": end},
+        },
+        "message": found.message,
+        "severity": SEVERITY[found.level].value,
+        "code": found.code.code,
+        "source": SOURCE,
+    }
+    if found.code.code in _UNNECESSARY:
+        wire["tags"] = [types.DiagnosticTag.Unnecessary.value]
+    return wire
 
 
 def to_lsp(wire: list[WireDiagnostic]) -> list[types.Diagnostic]:
