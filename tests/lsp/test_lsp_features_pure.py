@@ -95,9 +95,7 @@ def test_completion_model_and_ranking() -> None:
 )
 def test_ranking_equals_a_full_sort(names: list[str], typed: str, line: int) -> None:
     """The two-pointer ranking equals sorting every match, however many there are."""
-    model = completion.CompletionModel(
-        rules=tuple(completion.RuleEntry(name, "", i) for i, name in enumerate(names))
-    )
+    model = completion.CompletionModel(names=tuple(names), lines=tuple(range(len(names))))
     wanted = typed.lower()
     scored = sorted(
         (0 if n.lower() == wanted else 1 if n.lower().startswith(wanted) else 2, abs(i - line), i)

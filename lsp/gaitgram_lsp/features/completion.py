@@ -27,6 +27,7 @@ from enum import Enum
 from lsprotocol import types
 
 from gaitgram.analysis import CheckResult
+from gaitgram.analysis.cfg import Cfg, RuleKind
 from gaitgram.backends.catalogue import Joint
 from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backend_names, get_backend
 from gaitgram.language.annotations import ANNOTATIONS, AnnotationKind, Parameter, ValueType
@@ -48,57 +49,77 @@ class RuleEntry:
 
 @dataclass(frozen=True)
 class CompletionModel:
-    """What completion needs from an analysis, as plain values that stay valid after it."""
+    """What completion needs from an analysis, as plain values that stay valid after it.
 
-    rules: tuple[RuleEntry, ...] = ()
+    Per rule (first definitions, in document order) there are parallel tuples; the detail
+    shown with a rule (its first production) is read from ``text`` only for the rules a
+    completion offers, since building it for thousands of rules on every change costs more
+    than the rest of the model."""
+
+    names: tuple[str, ...] = ()
+    lines: tuple[int, ...] = ()
+    #: Each rule's first production: offsets into ``text``, and whether more follow.
+    firsts: tuple[tuple[int, int, bool], ...] = ()
+    text: str = ""
     #: Names used but not defined, with a rule that uses each.
     undefined: tuple[tuple[str, str], ...] = ()
     backend: str | None = None
     units: str = "deg"
     #: Joint name -> the rule that drives it.
     driven: dict[str, str] = field(default_factory=dict)
-    #: The rules' names in lower case, and their lines: what ranking reads.
+    #: The rules' names in lower case: what ranking reads.
     folded: tuple[str, ...] = field(init=False, repr=False)
-    lines: tuple[int, ...] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "folded", tuple(rule.name.lower() for rule in self.rules))
-        object.__setattr__(self, "lines", tuple(rule.line for rule in self.rules))
+        object.__setattr__(self, "folded", tuple(name.lower() for name in self.names))
 
     @classmethod
     def of(cls, result: CheckResult) -> CompletionModel:
         grammar = result.grammar
-        source = grammar.source
-        defined = grammar.rules_by_name
-        firsts = list(defined.values())
-        lines = PositionIndex(source).line_column(r.span.start for r in firsts)
-        rules = tuple(
-            RuleEntry(rule.name, _first_production(source.text, rule), line)
-            for rule, (line, _) in zip(firsts, lines, strict=True)
-        )
-        undefined: dict[str, str] = {}
-        for rule in grammar.rules:
-            for ref in rule.references():
-                if ref.name not in defined:
-                    undefined.setdefault(ref.name, rule.name)
+        firsts = list(grammar.rules_by_name.values())
+        lines = PositionIndex(grammar.source).line_column(r.span.start for r in firsts)
         return cls(
-            rules=rules,
-            undefined=tuple(undefined.items()),
+            names=tuple(rule.name for rule in firsts),
+            lines=tuple(line for line, _ in lines),
+            firsts=tuple(
+                (a[0].span.start, a[0].span.end, len(a) > 1) if (a := rule.alternatives) else (0, 0, False)
+                for rule in firsts
+            ),
+            text=grammar.source.text,
+            undefined=_undefined(result.facts.cfg),
             backend=grammar.backend,
             units=grammar.units,
             driven={j.joint: j.rule for j in grammar.joints},
         )
 
+    def entry(self, index: int) -> RuleEntry:
+        start, end, more = self.firsts[index] if self.firsts else (0, 0, False)
+        return RuleEntry(self.names[index], _production(self.text, start, end, more), self.lines[index])
 
-def _first_production(text: str, rule) -> str:
-    if not rule.alternatives:
-        return ""
-    span = rule.alternatives[0].span
-    shown = " ".join(text[span.start : min(span.end, span.start + 4 * _DETAIL_WIDTH)].split())
-    more = " | …" if len(rule.alternatives) > 1 else ""
+    @property
+    def rules(self) -> list[RuleEntry]:
+        return [self.entry(i) for i in range(len(self.names))]
+
+
+def _undefined(cfg: Cfg) -> tuple[tuple[str, str], ...]:
+    """Each undefined name with the first rule that uses it; the scan stops once all are found."""
+    missing = {i for i, kind in enumerate(cfg.kinds) if kind is RuleKind.UNDEFINED}
+    users: dict[int, str] = {}
+    for rule, choices in enumerate(cfg.choices):
+        if len(users) == len(missing) or cfg.kinds[rule] is not RuleKind.DEFINED:
+            break
+        for choice in choices:
+            for item in choice:
+                if item in missing and item not in users:  # ints only: strings are never in it
+                    users[item] = cfg.names[rule]
+    return tuple((cfg.names[i], user) for i, user in users.items())
+
+
+def _production(text: str, start: int, end: int, more: bool) -> str:
+    shown = " ".join(text[start : min(end, start + 4 * _DETAIL_WIDTH)].split())
     if len(shown) > _DETAIL_WIDTH:
         shown = shown[: _DETAIL_WIDTH - 1] + "…"
-    return shown + more
+    return shown + (" | …" if more else "")
 
 
 # ---- the context at the cursor ------------------------------------------------------------
@@ -327,11 +348,11 @@ def _rank(model: CompletionModel, typed: str, line: int) -> tuple[list[RuleEntry
             if wanted in name:
                 tiers[0 if name == wanted else 1 if name.startswith(wanted) else 2].append(index)
     else:
-        tiers = [range(len(model.rules))]
+        tiers = [range(len(model.names))]
     chosen: list[int] = []
     for tier in tiers:
         chosen += _nearest(tier, model.lines, line, MAX_ITEMS - len(chosen))
-    return [model.rules[i] for i in chosen], sum(map(len, tiers)) > MAX_ITEMS
+    return [model.entry(i) for i in chosen], sum(map(len, tiers)) > MAX_ITEMS
 
 
 def _nearest(indices: Sequence[int], lines: Sequence[int], line: int, count: int) -> list[int]:
