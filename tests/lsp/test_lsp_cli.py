@@ -1,4 +1,5 @@
-"""Starting the server: ``gaitgram lsp --tcp HOST:PORT`` answers over TCP; ``gaitgram-lsp`` exists."""
+"""Starting the server: ``gaitgram lsp`` answers over stdio, ``gaitgram lsp --tcp HOST:PORT``
+over TCP; ``gaitgram-lsp`` exists."""
 
 from __future__ import annotations
 
@@ -20,7 +21,9 @@ def free_port() -> int:
         return probe.getsockname()[1]
 
 
-async def talk(port: int) -> list[types.Diagnostic]:
+async def talk(port: int | None) -> list[types.Diagnostic]:
+    """Open a document with an undefined name and return its diagnostics: over TCP to
+    ``port``, or over stdio to a ``gaitgram lsp`` this starts."""
     client = LanguageClient("gaitgram-test", "1")
     published: asyncio.Future[list[types.Diagnostic]] = asyncio.get_running_loop().create_future()
 
@@ -29,12 +32,15 @@ async def talk(port: int) -> list[types.Diagnostic]:
         if not published.done():
             published.set_result(list(params.diagnostics))
 
-    for _ in range(100):  # the server takes a moment to import and listen
-        try:
-            await client.start_tcp("127.0.0.1", port)
-            break
-        except OSError:
-            await asyncio.sleep(0.1)
+    if port is None:
+        await client.start_io(sys.executable, "-m", "gaitgram", "lsp")
+    else:
+        for _ in range(100):  # the server takes a moment to import and listen
+            try:
+                await client.start_tcp("127.0.0.1", port)
+                break
+            except OSError:
+                await asyncio.sleep(0.1)
     await client.initialize_async(types.InitializeParams(capabilities=types.ClientCapabilities()))
     client.initialized(types.InitializedParams())
     client.text_document_did_open(
@@ -49,6 +55,11 @@ async def talk(port: int) -> list[types.Diagnostic]:
     client.exit(None)
     await client.stop()
     return found
+
+
+def test_gaitgram_lsp_over_stdio() -> None:
+    found = asyncio.run(talk(None))
+    assert [(d.code, d.message) for d in found] == [("GG201", "<b> is not defined")]
 
 
 def test_gaitgram_lsp_over_tcp() -> None:
