@@ -41,9 +41,14 @@ class GrammarFacts:
     reachable: tuple[bool, ...]
     min_depth: tuple[int | None, ...]
     choice_min_depth: tuple[tuple[int | None, ...], ...]
-    recursive: tuple[bool, ...]
     #: For each @joint rule, the rules its curve can use (itself included).
     joint_reach: dict[str, frozenset[str]]
+
+    @cached_property
+    def recursive(self) -> tuple[bool, ...]:
+        """Computed when first asked: the linter never asks, and on a large grammar it is a
+        fifth of ``check``'s time (the language server re-checks on every edit)."""
+        return recursive_rules(self.cfg)
 
     def rule(self, name: str) -> RuleFacts | None:
         i = self.cfg.index.get(name)
@@ -84,7 +89,6 @@ def analyse(grammar: Grammar, cfg: Cfg | None = None) -> GrammarFacts:
         reachable=reachable,
         min_depth=depth,
         choice_min_depth=choice_depth,
-        recursive=recursive_rules(cfg),
         joint_reach=joint_reach,
     )
 

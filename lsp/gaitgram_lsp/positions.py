@@ -71,13 +71,23 @@ class PositionIndex:
         return types.Position(line=line, character=character)
 
     def line_character(self, offset: int) -> tuple[int, int]:
-        """An offset's 0-based line and character, as plain ints: many are wanted at once."""
-        location = self.source.location(offset)
-        character = location.column - 1
-        if not self.simple and character:
-            prefix = self.source.line_text(location.line)[:character]
-            character = units(prefix, self.encoding)
-        return location.line - 1, character
+        """An offset's 0-based line and character, as plain ints."""
+        return self.line_characters([offset])[0]
+
+    def line_characters(self, offsets: Iterable[int]) -> list[tuple[int, int]]:
+        """Many offsets' lines and characters at once (thousands of diagnostics per change)."""
+        source = self.source
+        starts = source._line_starts  # private, but the index is what makes this cheap
+        size = len(source.text)
+        found = []
+        for offset in offsets:
+            offset = min(max(offset, 0), size)
+            line = bisect_right(starts, offset) - 1
+            character = offset - starts[line]
+            if not self.simple and character:
+                character = units(source.text[starts[line] : offset], self.encoding)
+            found.append((line, character))
+        return found
 
     def range(self, span: Span) -> types.Range:
         return types.Range(start=self.position(span.start), end=self.position(span.end))

@@ -29,6 +29,8 @@ SEVERITY = {
 
 #: Rendered faded by editors: code that does nothing.
 _UNNECESSARY = frozenset({"GG204"})
+_UNNECESSARY_TAGS = [types.DiagnosticTag.Unnecessary.value]
+_SEVERITY_VALUE = {level: severity.value for level, severity in SEVERITY.items()}
 
 WireDiagnostic = dict[str, Any]
 
@@ -37,26 +39,30 @@ _converter = default_converter()
 
 def wire_diagnostics(result: CheckResult, positions: PositionIndex) -> list[WireDiagnostic]:
     """The diagnostics as the JSON that ``textDocument/publishDiagnostics`` carries."""
-    return [wire_diagnostic(d, positions) for d in result.diagnostics]
+    found = result.diagnostics
+    starts = positions.line_characters(d.span.start for d in found)
+    ends = positions.line_characters(d.span.end for d in found)
+    return [_wire(d, start, end) for d, start, end in zip(found, starts, ends, strict=True)]
 
 
 def wire_diagnostic(found: Diagnostic, positions: PositionIndex) -> WireDiagnostic:
-    (start_line, start), (end_line, end) = (
-        positions.line_character(found.span.start),
-        positions.line_character(found.span.end),
-    )
+    return _wire(found, positions.line_character(found.span.start), positions.line_character(found.span.end))
+
+
+def _wire(found: Diagnostic, start: tuple[int, int], end: tuple[int, int]) -> WireDiagnostic:
+    code = found.code.code
     wire: WireDiagnostic = {
         "range": {
-            "start": {"line": start_line, "character": start},
-            "end": {"line": end_line, "character": end},
+            "start": {"line": start[0], "character": start[1]},
+            "end": {"line": end[0], "character": end[1]},
         },
         "message": found.message,
-        "severity": SEVERITY[found.level].value,
-        "code": found.code.code,
+        "severity": _SEVERITY_VALUE[found.level],
+        "code": code,
         "source": SOURCE,
     }
-    if found.code.code in _UNNECESSARY:
-        wire["tags"] = [types.DiagnosticTag.Unnecessary.value]
+    if code in _UNNECESSARY:
+        wire["tags"] = _UNNECESSARY_TAGS
     return wire
 
 
