@@ -106,35 +106,45 @@ def min_depths(
     """
     n = len(cfg)
     depth: list[int | None] = [None] * n
-    choice_depth: list[list[int | None]] = [[None] * len(choices) for choices in cfg.choices]
-    remaining: list[list[int]] = []
-    users: list[list[tuple[int, int]]] = [[] for _ in range(n)]
+    # Choices are numbered across the grammar: flat lists index faster than nested ones.
+    flat_depth: list[int | None] = []
+    remaining: list[int] = []
+    owner: list[int] = []
+    first_choice: list[int] = []
+    users: list[list[int]] = [[] for _ in range(n)]
     heap: list[tuple[int, int]] = [(1, r) for r in assume_productive]
     for r, choices in enumerate(cfg.choices):
-        counts = []
-        for c, choice in enumerate(choices):
-            needed = {item for item in choice if isinstance(item, int)}
-            counts.append(len(needed))
+        first_choice.append(len(owner))
+        finishes = False
+        for choice in choices:
+            needed = {item for item in choice if item.__class__ is int}
+            c = len(owner)
+            owner.append(r)
+            remaining.append(len(needed))
             if needed:
+                flat_depth.append(None)
                 for child in needed:
-                    users[child].append((r, c))
+                    users[child].append(c)
             else:
-                choice_depth[r][c] = 1
-                heap.append((1, r))
-        remaining.append(counts)
+                flat_depth.append(1)
+                finishes = True
+        if finishes:
+            heap.append((1, r))
+    first_choice.append(len(owner))
     heapq.heapify(heap)
     while heap:
         d, r = heapq.heappop(heap)
         if depth[r] is not None:
             continue
         depth[r] = d
-        for u, c in users[r]:
-            remaining[u][c] -= 1
-            if remaining[u][c] == 0:
-                choice_depth[u][c] = d + 1
-                if depth[u] is None:
-                    heapq.heappush(heap, (d + 1, u))
-    return tuple(depth), tuple(tuple(cd) for cd in choice_depth)
+        for c in users[r]:
+            remaining[c] -= 1
+            if remaining[c] == 0:
+                flat_depth[c] = d + 1
+                if depth[owner[c]] is None:
+                    heapq.heappush(heap, (d + 1, owner[c]))
+    choice_depth = tuple(tuple(flat_depth[first_choice[r] : first_choice[r + 1]]) for r in range(n))
+    return tuple(depth), choice_depth
 
 
 def reachable_from(cfg: Cfg, roots: Iterable[int]) -> tuple[bool, ...]:
