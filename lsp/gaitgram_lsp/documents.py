@@ -302,8 +302,9 @@ class Documents:
                 document.completion = snapshot.completion
             gc.freeze()
         loop.call_soon_threadsafe(self._deliver, document, snapshot)
-        with gc_paused():
-            document.completion = snapshot.completion  # built once the diagnostics are out
+        with gc_paused():  # once the diagnostics are out: what requests read
+            document.completion = snapshot.completion
+            snapshot.result.facts.recursive  # noqa: B018  (cached: hover shows it)
             gc.freeze()
 
     def _deliver(self, document: Document, snapshot: Snapshot) -> None:
