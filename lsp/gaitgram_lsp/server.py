@@ -8,7 +8,6 @@ they waited get LSP's ContentModified, so the client asks again.
 from __future__ import annotations
 
 import argparse
-import copy
 import json
 import logging
 import sys
@@ -41,14 +40,12 @@ SWITCH_INTERVAL = 0.0005
 class GaitgramProtocol(LanguageServerProtocol):
     @lsp_method(types.TEXT_DOCUMENT_DID_CHANGE)
     def lsp_text_document__did_change(self, params: types.DidChangeTextDocumentParams):
-        """As pygls's, but the handler gets the changes as sent: pygls's own copy of the text
-        splits lines at more characters than LSP does (form feed, U+2028, ...) and clamps
-        positions to those lines in place."""
-        as_sent = copy.deepcopy(params)
-        for change in params.content_changes:
-            self.workspace.update_text_document(params.text_document, change)
+        """As pygls's, without updating pygls's own copy of the text: ``documents.py`` keeps
+        the text, and pygls's copy splits lines at more characters than LSP does (form feed,
+        U+2028, ...) and clamps the changes' positions to those lines, in place. Nothing
+        reads ``workspace`` text documents."""
         if (handler := self.fm.features.get(types.TEXT_DOCUMENT_DID_CHANGE)) is not None:
-            yield handler, (as_sent,), None
+            yield handler, (params,), None
 
     def notify_encoded(self, method: str, params_json: str) -> None:
         """Send a notification whose parameters are JSON already (ASCII, as ``json.dumps``
