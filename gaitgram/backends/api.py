@@ -83,3 +83,12 @@ class Evaluator(Protocol):
     ) -> list[Evaluation]: ...
 
     def close(self) -> None: ...
+
+
+class SettingsError(ValueError):
+    """A backend setting that cannot be used: ``key`` names it (dotted for nested tables)."""
+
+    def __init__(self, key: str, message: str) -> None:
+        super().__init__(f"{key}: {message}")
+        self.key = key
+        self.message = message

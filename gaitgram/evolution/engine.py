@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import tempfile
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -22,6 +20,7 @@ import numpy as np
 from gaitgram.analysis import CheckResult
 from gaitgram.backends.api import Evaluation, Evaluator, GaitStatus
 from gaitgram.evolution.config import RunConfig
+from gaitgram.fileio import write_atomically
 from gaitgram.ge import compile_mapper
 from gaitgram.ge.initialisation import ramped_population
 from gaitgram.ge.operators import Genome, elite, int_flip_mutation, one_point_crossover, tournament
@@ -197,21 +196,6 @@ def step(state: RunState, problem: Problem, evaluator: Evaluator, config: RunCon
 
 
 # ---- checkpoints -------------------------------------------------------------------------
-
-
-def write_atomically(path: Path, text: str) -> None:
-    """Write beside the target and rename: a kill at any instant leaves the old or the new file."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
 
 
 def save_checkpoint(path: Path, state: RunState, config_text: str) -> None:

@@ -12,6 +12,7 @@ import json
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from gaitgram.fileio import write_atomically
 from gaitgram.ge.visualise import ascii_tree
 from gaitgram.motion.gait import sampled_curve
 
@@ -59,8 +60,6 @@ def _curve(text: str) -> list[float] | None:
 
 
 def write_run_records(run_dir: Path, problem: Problem, state: RunState) -> None:
-    from gaitgram.evolution.engine import write_atomically
-
     records = [s.as_record() for s in state.history]
     write_atomically(run_dir / "stats.csv", stats_csv(records))
     write_atomically(run_dir / "stats.jsonl", "".join(json.dumps(r) + "\n" for r in records))

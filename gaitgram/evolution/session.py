@@ -23,7 +23,8 @@ from gaitgram.analysis import CheckResult, check
 from gaitgram.backends.api import Evaluator
 from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backend_names, get_backend
 from gaitgram.evolution.config import RunConfig, load_config
-from gaitgram.evolution.engine import GenerationStats, Problem, RunState, run_evolution, write_atomically
+from gaitgram.evolution.engine import GenerationStats, Problem, RunState, run_evolution
+from gaitgram.fileio import write_atomically
 from gaitgram.language import parse
 
 DEFAULT_BACKEND = "mujoco-horse"

@@ -13,7 +13,6 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
 import mujoco
@@ -22,8 +21,8 @@ from mujoco import rollout
 
 from gaitgram.backends.api import WORST_FITNESS, Evaluation, GaitStatus, unusable_evaluations
 from gaitgram.backends.mujoco_horse.model import STATE_SPEC, HorseLayout, horse_layout, load_model
+from gaitgram.backends.mujoco_horse.settings import HorseSettings
 from gaitgram.backends.mujoco_horse.task import (
-    DEFAULT_FROUDE,
     DEFAULT_WEIGHTS,
     GaitMetrics,
     GaitTargets,
@@ -41,32 +40,6 @@ FLIP_COSINE = 0.5
 UNSTABLE_SPEED = 200.0
 #: A hoof is on the ground when its touch sensor reads more than this (N).
 CONTACT_FORCE = 5.0
-
-
-@dataclass(frozen=True)
-class HorseSettings:
-    froude: float = DEFAULT_FROUDE
-    ramp_seconds: float = 0.5  # controls blend in from the standing pose
-    cycles: int = 3  # gait cycles scored after the ramp
-    threads: int = 0  # 0: all cores
-    weights: Mapping[str, float] | None = None
-
-    @classmethod
-    def from_mapping(cls, settings: Mapping[str, Any]) -> HorseSettings:
-        known = {"froude", "ramp_seconds", "cycles", "threads", "weights"}
-        unknown = set(settings) - known
-        if unknown:
-            raise ValueError(
-                f"unknown mujoco-horse setting(s) {', '.join(sorted(unknown))}; "
-                f"known: {', '.join(sorted(known))}"
-            )
-        values = dict(settings)
-        if "weights" in values:
-            values["weights"] = {str(k): float(v) for k, v in values["weights"].items()}
-        result = cls(**values)
-        if result.cycles < 1 or result.ramp_seconds < 0 or result.threads < 0:
-            raise ValueError("cycles must be >= 1, ramp_seconds >= 0 and threads >= 0")
-        return result
 
 
 class HorseEvaluator:

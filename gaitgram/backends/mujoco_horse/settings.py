@@ -1,0 +1,118 @@
+"""The ``mujoco-horse`` settings, checked without importing MuJoCo.
+
+A run's ``[backend_settings]`` are checked before its directory is made, so a
+misspelt key or a weight that no component has is refused up front instead of
+scoring every gait 0 or allocating terabytes an hour into a study.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from gaitgram.backends.api import SettingsError
+from gaitgram.backends.mujoco_horse.task import DEFAULT_FROUDE, DEFAULT_WEIGHTS, walk_targets
+
+#: The fitness components a weight may name.
+WEIGHT_NAMES: frozenset[str] = frozenset(DEFAULT_WEIGHTS)
+#: Nominal hip height for sizing a simulation before the model is loaded (the model measures 1.138 m).
+NOMINAL_HIP_HEIGHT = 1.14
+#: Longest simulated time per gait: past this a typo (``cycles = 3000``) would cost hours and gigabytes.
+MAX_SIMULATED_SECONDS = 60.0
+MAX_THREADS = 1024
+#: Lowest Froude number the walk targets are read at (slower than this is standing still).
+MIN_FROUDE = 0.05
+MAX_FROUDE = 2.5
+
+
+@dataclass(frozen=True)
+class HorseSettings:
+    froude: float = DEFAULT_FROUDE
+    ramp_seconds: float = 0.5  # controls blend in from the standing pose
+    cycles: int = 3  # gait cycles scored after the ramp
+    threads: int = 0  # 0: all cores
+    weights: Mapping[str, float] | None = None
+
+    def __post_init__(self) -> None:
+        _check(self)
+
+    @classmethod
+    def from_mapping(cls, settings: Mapping[str, Any]) -> HorseSettings:
+        """Read a ``[backend_settings]`` table; raises :class:`SettingsError` naming the key."""
+        known = ("froude", "ramp_seconds", "cycles", "threads", "weights")
+        for key in settings:
+            if key not in known:
+                raise SettingsError(str(key), f"unknown mujoco-horse setting{_suggest(str(key), known)}")
+        values: dict[str, Any] = {}
+        for key in ("froude", "ramp_seconds"):
+            if key in settings:
+                values[key] = _number(key, settings[key])
+        for key in ("cycles", "threads"):
+            if key in settings:
+                values[key] = _integer(key, settings[key])
+        if "weights" in settings:
+            values["weights"] = weights_table("weights", settings["weights"])
+        return cls(**values)
+
+    @property
+    def simulated_seconds(self) -> float:
+        targets = walk_targets(self.froude, NOMINAL_HIP_HEIGHT)
+        return self.ramp_seconds + self.cycles / targets.stride_frequency
+
+
+def weights_table(key: str, value: Any) -> dict[str, float]:
+    """A table of fitness weights: known component names, finite numbers >= 0."""
+    if not isinstance(value, Mapping):
+        raise SettingsError(key, "must be a table of component = weight")
+    weights = {}
+    for name, weight in value.items():
+        if name not in WEIGHT_NAMES:
+            raise SettingsError(
+                f"{key}.{name}",
+                f"no fitness component is called {name!r}{_suggest(str(name), sorted(WEIGHT_NAMES))}",
+            )
+        number = _number(f"{key}.{name}", weight)
+        if number < 0:
+            raise SettingsError(f"{key}.{name}", f"a weight must be >= 0, not {number}")
+        weights[str(name)] = number
+    return weights
+
+
+def _check(s: HorseSettings) -> None:
+    if not MIN_FROUDE <= s.froude <= MAX_FROUDE:
+        raise SettingsError("froude", f"must be in [{MIN_FROUDE}, {MAX_FROUDE}], not {s.froude}")
+    if not 0 <= s.ramp_seconds <= 10:
+        raise SettingsError("ramp_seconds", f"must be in [0, 10] seconds, not {s.ramp_seconds}")
+    if not 1 <= s.cycles <= 100:
+        raise SettingsError("cycles", f"must be a whole number in [1, 100], not {s.cycles}")
+    if not 0 <= s.threads <= MAX_THREADS:
+        raise SettingsError("threads", f"must be in [0, {MAX_THREADS}] (0: all cores), not {s.threads}")
+    if s.simulated_seconds > MAX_SIMULATED_SECONDS:
+        raise SettingsError(
+            "cycles",
+            f"{s.cycles} cycles at Froude number {s.froude} simulate {s.simulated_seconds:.0f} s per gait; "
+            f"at most {MAX_SIMULATED_SECONDS:.0f} s are allowed (fewer cycles, or a faster gait)",
+        )
+
+
+def _number(key: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise SettingsError(key, f"must be a number, not {value!r}")
+    number = float(value)
+    if not math.isfinite(number):
+        raise SettingsError(key, f"must be a finite number, not {value!r}")
+    return number
+
+
+def _integer(key: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise SettingsError(key, f"must be a whole number, not {value!r}")
+    return value
+
+
+def _suggest(name: str, known: Any) -> str:
+    close = difflib.get_close_matches(name, list(known), n=1)
+    return f"; did you mean {close[0]}?" if close else f"; known: {', '.join(known)}"
