@@ -15,10 +15,10 @@ from pathlib import Path
 from gaitgram.analysis import check
 from gaitgram.backends.api import Evaluation, Evaluator
 from gaitgram.evolution.config import RunConfig
-from gaitgram.evolution.engine import Problem, run_evolution
-from gaitgram.evolution.session import joint_order, load_evaluator
+from gaitgram.evolution.engine import run_evolution
 from gaitgram.language import load
 from gaitgram.motion.gait import MotionBatch
+from gaitgram.pipeline import Pipeline
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -45,9 +45,9 @@ class Timed:
 
 def main() -> None:
     checked = check(load(ROOT / "grammars" / "sine-walk.gg"))
-    config = RunConfig(generations=4, population=75, seed=1)
-    evaluator = Timed(load_evaluator("mujoco-horse", {}))
-    problem = Problem(checked, config, joint_order("mujoco-horse", checked))
+    pipeline = Pipeline.build(checked, RunConfig(generations=4, population=75, seed=1))
+    config = pipeline.config
+    evaluator = Timed(pipeline.load_evaluator())
     marks: list[tuple[float, float]] = []  # (wall clock, backend seconds) after each generation
 
     def mark(run: int, stats: object) -> None:
@@ -55,7 +55,7 @@ def main() -> None:
 
     with tempfile.TemporaryDirectory() as tmp:
         start = time.perf_counter()
-        run_evolution(problem, evaluator, config, 0, Path(tmp), on_generation=mark)
+        run_evolution(pipeline, evaluator, 0, Path(tmp), fingerprint="benchmark", on_generation=mark)
     evaluator.close()
     init_wall, init_backend = marks[0][0] - start, marks[0][1]
     wall = marks[-1][0] - marks[0][0]

@@ -14,14 +14,20 @@ from typing import Any
 
 import numpy as np
 
-from gaitgram.backends.api import Evaluation, unusable_evaluations
+from gaitgram.backends.api import Evaluation, GaitStatus, SettingsError, unusable_evaluations
 from gaitgram.backends.registry import BackendSpec
-from gaitgram.motion.expression import MotionStatus, compile_motion, phase_grid
+from gaitgram.motion.expression import Motion, MotionStatus, compile_motion, phase_grid
 from gaitgram.motion.gait import MotionBatch
 
+#: Grids a target is checked on before a run: the run's own sample count is among them by default.
+CHECK_SAMPLES = (64, 256, 1024)
 
-class CurveMatchError(ValueError):
+
+class CurveMatchError(SettingsError):
     """Bad settings: no targets, or a target that does not compile."""
+
+    def __init__(self, message: str) -> None:
+        super().__init__("targets", message)
 
 
 @dataclass(frozen=True)
@@ -31,12 +37,7 @@ class CurveMatch:
     targets: Mapping[str, str]
 
     def __post_init__(self) -> None:
-        if not self.targets:
-            raise CurveMatchError('curve-match needs targets: a table joint = "expression of t"')
-        for joint, text in self.targets.items():
-            motion = compile_motion(text)
-            if not hasattr(motion, "evaluate"):
-                raise CurveMatchError(f"target for {joint}: {motion}")
+        check_targets(self.targets)
 
     def _target_angles(self, joints: tuple[str, ...], n_samples: int) -> tuple[list[int], np.ndarray]:
         phases = phase_grid(n_samples)
@@ -58,7 +59,8 @@ class CurveMatch:
         # Gait angles for the target joints; joints the batch lacks hold neutral.
         padded = np.concatenate([batch.angles, np.zeros((len(batch), 1, batch.n_samples))], axis=1)
         chosen = padded[:, rows, :]  # [gaits, targets, samples]; index -1 picks the zeros
-        rms = np.sqrt(np.mean((chosen - targets[None]) ** 2, axis=2))
+        with np.errstate(over="ignore", invalid="ignore"):
+            rms = np.sqrt(np.mean((chosen - targets[None]) ** 2, axis=2))
         names = list(self.targets)
         factors = np.array([(weights or {}).get(f"rms_{name}", 1.0) for name in names])
         total = factors.sum() or 1.0
@@ -67,12 +69,43 @@ class CurveMatch:
             if g in unusable:
                 results.append(unusable[g])
                 continue
+            if not np.isfinite(rms[g]).all():  # curves so large that their distance overflows
+                results.append(Evaluation.unviable(GaitStatus.NON_FINITE, "the RMS distance overflows"))
+                continue
             components = {f"rms_{name}": float(value) for name, value in zip(names, rms[g], strict=True)}
             results.append(Evaluation(float((rms[g] * factors).sum() / total), components=components))
         return results
 
     def close(self) -> None:
         pass
+
+
+def check_targets(targets: Mapping[str, str]) -> None:
+    """Every target compiles and is finite on the usual grids, so a run never fails mid-way."""
+    if not targets:
+        raise CurveMatchError('curve-match needs targets: a table joint = "expression of t"')
+    for joint, text in targets.items():
+        motion = compile_motion(text)
+        if not isinstance(motion, Motion):
+            raise SettingsError(f"targets.{joint}", str(motion))
+        for samples in CHECK_SAMPLES:
+            curve = motion.evaluate(phase_grid(samples))
+            if curve.status is not MotionStatus.OK:
+                raise SettingsError(f"targets.{joint}", f"{text!r}: {curve.error}")
+
+
+def check_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
+    for key in settings:
+        if key != "targets":
+            raise SettingsError(str(key), "unknown curve-match setting; its only setting is targets")
+    targets = settings.get("targets")
+    if not isinstance(targets, Mapping) or not targets:
+        raise SettingsError("targets", 'curve-match needs a table of targets: joint = "expression of t"')
+    for joint, text in targets.items():
+        if not isinstance(text, str):
+            raise SettingsError(f"targets.{joint}", f"must be an expression of t in quotes, not {text!r}")
+    check_targets(targets)
+    return {"targets": {str(k): v for k, v in targets.items()}}
 
 
 def load(settings: Mapping[str, Any] | None = None) -> CurveMatch:
@@ -85,4 +118,7 @@ BACKEND = BackendSpec(
     summary="Distance of each joint curve to a target curve: analytic, for tests and sanity checks.",
     catalogue=None,
     load=load,
+    check_settings=check_settings,
+    weight_names=lambda settings: frozenset(f"rms_{joint}" for joint in settings.get("targets", {})),
+    version="rms r1",
 )

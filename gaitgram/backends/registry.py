@@ -11,12 +11,13 @@ simulator import): the linter loads it to read the joint catalogue.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from functools import cache
 from importlib.metadata import entry_points
 from typing import Any
 
+from gaitgram.backends.api import SettingsError
 from gaitgram.backends.catalogue import JointCatalogue
 
 ENTRY_POINT_GROUP = "gaitgram.backends"
@@ -28,12 +29,42 @@ class BackendSpec:
 
     ``catalogue`` is None for backends that take any joint names. ``load``
     returns the backend's evaluator; it may import heavy dependencies.
+
+    The optional rest lets gaitgram refuse a bad run before it starts, and
+    refuse to resume a run whose scores the installed backend would compute
+    differently:
+
+    * ``check_settings(settings)`` returns the settings normalised, or raises
+      :class:`~gaitgram.backends.api.SettingsError` naming the key; it must be
+      cheap (no simulator). Without it, ``load`` is the only check.
+    * ``weight_names(settings)`` is the set of names a fitness weight may have
+      under those settings; None means the backend takes no weights, so a
+      ``weight_schedule`` for it is refused rather than silently ignored.
+    * ``runtime_settings`` change speed, never a score (``threads``): they may
+      differ when a run is resumed or re-evaluated.
+    * ``version`` changes whenever the same gait could score differently (a new
+      model, a new fitness formula, another simulator release).
     """
 
     name: str
     summary: str
     catalogue: JointCatalogue | None
-    load: Callable[[], Any] | None = None
+    load: Callable[..., Any] | None = None
+    check_settings: Callable[[Mapping[str, Any]], Mapping[str, Any]] | None = None
+    weight_names: Callable[[Mapping[str, Any]], frozenset[str]] | None = None
+    runtime_settings: frozenset[str] = field(default_factory=frozenset)
+    version: str = ""
+
+    def checked_settings(self, settings: Mapping[str, Any]) -> dict[str, Any]:
+        """``settings`` checked and normalised; :class:`SettingsError` names the bad key."""
+        if self.check_settings is None:
+            return dict(settings)
+        try:
+            return dict(self.check_settings(settings))
+        except SettingsError:
+            raise
+        except (ValueError, TypeError) as error:  # a plug-in that raises plain errors
+            raise SettingsError("backend_settings", str(error)) from None
 
 
 class BackendNotFound(LookupError):
@@ -53,6 +84,17 @@ def _entry_points() -> dict[str, Any]:
 
 def backend_names() -> tuple[str, ...]:
     return tuple(sorted(_entry_points()))
+
+
+def backend_version(name: str) -> str:
+    """What a run records of its backend: the providing package's release and the spec's version."""
+    ep = _entry_points().get(name)
+    if ep is None:
+        raise BackendNotFound(name)
+    spec = get_backend(name)
+    dist = getattr(ep, "dist", None)
+    package = f"{dist.name} {dist.version}" if dist is not None else "unknown package"
+    return f"{package}; {spec.version}" if spec.version else package
 
 
 @cache

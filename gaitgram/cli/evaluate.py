@@ -1,4 +1,4 @@
-"""``gaitgram evaluate``: one individual through the fitness backend, every component shown."""
+"""``gaitgram evaluate``: one individual through the run's pipeline, every component shown."""
 
 from __future__ import annotations
 
@@ -10,71 +10,128 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from gaitgram.cli.common import err, load_usable, read_genome
-from gaitgram.cli.options import Defines, parse_defines
-from gaitgram.evolution.config import RunConfig
-from gaitgram.evolution.session import SessionError, choose_backend, joint_order, load_evaluator
-from gaitgram.ge import CodonMode, compile_mapper
-from gaitgram.motion.gait import motion_batch
+from gaitgram import jsonio
+from gaitgram.cli.common import err
+from gaitgram.cli.options import Defines
+from gaitgram.cli.selection import SelectionError, select_gait
+from gaitgram.ge import CodonMode
+from gaitgram.pipeline import PipelineError
 
 
 def command(
-    grammar: Annotated[Path, typer.Argument(help="The grammar.", show_default=False)],
-    genome: Annotated[str | None, typer.Option(help="Codons, e.g. 12,7,301.")] = None,
-    genome_file: Annotated[Path | None, typer.Option(help="Codons from a file; - for stdin.")] = None,
-    backend: Annotated[str | None, typer.Option(help="Fitness backend [the grammar's @backend].")] = None,
-    generation: Annotated[int, typer.Option(min=0, help="Generation (joint freedom, weights).")] = 1_000_000,
-    codons: Annotated[CodonMode, typer.Option(help="lazy or eager codon consumption.")] = CodonMode.LAZY,
-    max_wraps: Annotated[int, typer.Option(min=0)] = 3,
+    grammar: Annotated[Path | None, typer.Argument(help="The grammar (not with --run).")] = None,
+    run: Annotated[
+        Path | None,
+        typer.Option("--run", help="Use this run directory's own pipeline; by default, its best gait."),
+    ] = None,
+    genome: Annotated[str | None, typer.Option(help="Codons, for example 12,7,301.")] = None,
+    genome_file: Annotated[
+        Path | None, typer.Option(help="Read the codons from a file; - for standard input.")
+    ] = None,
+    generation: Annotated[
+        int | None,
+        typer.Option(
+            min=0, help="Score as in this generation: its joint freedom and weights (default: the last)."
+        ),
+    ] = None,
+    config: Annotated[
+        Path | None, typer.Option("--config", "-c", help="A run.toml: codons, backend, settings, weights.")
+    ] = None,
+    backend: Annotated[
+        str | None, typer.Option(help="Fitness backend (default: the grammar's @backend, else mujoco-horse).")
+    ] = None,
+    codons: Annotated[
+        CodonMode | None, typer.Option(help="Codon consumption, lazy or eager (default lazy).")
+    ] = None,
+    max_wraps: Annotated[int | None, typer.Option(min=0, help="Wraps allowed (default 3).")] = None,
+    max_depth: Annotated[int | None, typer.Option(min=1, help="Deepest rule node (default: none).")] = None,
     setting: Annotated[
         list[str] | None,
-        typer.Option("--set", metavar="KEY=JSON", help="Backend setting, e.g. froude=0.5."),
+        typer.Option("--set", metavar="KEY=JSON", help="A backend setting, for example froude=0.5."),
     ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     defines: Defines = None,
 ) -> None:
-    """Map a genome, simulate its gait and print the fitness, its components and the status."""
-    codon_values = read_genome(genome, genome_file)
-    checked = load_usable(grammar, parse_defines(defines))
-    settings = {}
-    for item in setting or []:
-        key, sep, raw = item.partition("=")
-        if not sep:
-            raise typer.BadParameter(f"{item!r} is not KEY=VALUE", param_hint="--set")
-        try:
-            settings[key] = json.loads(raw)
-        except json.JSONDecodeError:
-            settings[key] = raw
-    name = choose_backend(RunConfig(backend=backend), checked)
+    """Map a genome, simulate its gait and print the fitness, its components and the status.
+
+    With --run, the gait is scored by the run's own pipeline, and re-scoring the run's best must
+    reproduce the fitness the run recorded (exit 2 if it does not). Exit 1 if the gait is not viable.
+    """
+    settings = _settings(setting)
+    overrides = {
+        "backend": backend,
+        "codons": codons.value if codons is not None else None,
+        "max_wraps": max_wraps,
+        "max_depth": max_depth,
+        "backend_settings": settings or None,
+    }
     try:
-        evaluator = load_evaluator(name, settings)
-    except SessionError as error:
-        err.print(f"error: {error}", style="bold red")
-        raise typer.Exit(2) from None
-    try:
-        mapped = compile_mapper(checked.grammar, codons=codons, max_wraps=max_wraps).map_fast(codon_values)
-        frozen = {j.joint for j in checked.grammar.joints if not j.is_free(generation)}
-        batch = motion_batch(
-            [mapped.joints if mapped.valid else None],
-            joint_order(name, checked),
-            units=checked.grammar.units,
-            frozen=frozen,
+        chosen = select_gait(
+            run=run,
+            grammar=grammar,
+            genome=genome,
+            genome_file=genome_file,
+            generation=generation,
+            config=config,
+            overrides=overrides,
+            defines=defines,
         )
-        (evaluation,) = evaluator.evaluate(batch, generation=generation)
-    finally:
-        evaluator.close()
+        pipeline = chosen.pipeline
+        evaluator = pipeline.load_evaluator()
+        try:
+            (scored,) = pipeline.evaluate([chosen.genome], evaluator, chosen.generation)
+        finally:
+            evaluator.close()
+    except (SelectionError, PipelineError) as error:
+        err.print(f"error: {error}", style="bold red", markup=False)
+        raise typer.Exit(2) from None
+    evaluation = scored.evaluation
+    reproduced = chosen.recorded is None or chosen.recorded == evaluation
     if as_json:
-        typer.echo(json.dumps({"backend": name, "phenotype": mapped.phenotype, **evaluation.as_record()}))
+        record = {
+            "backend": pipeline.backend,
+            "generation": chosen.generation,
+            "genome": list(chosen.genome),
+            "phenotype": scored.phenotype,
+            **evaluation.as_record(),
+        }
+        if chosen.recorded is not None:
+            record["recorded_fitness"] = chosen.recorded.fitness
+        typer.echo(jsonio.dumps(record))
     else:
         out = Console(highlight=False)
-        table = Table(title=f"{name}: {evaluation.status.value}", show_header=True)
+        table = Table(title=f"{pipeline.backend}: {evaluation.status.value}", show_header=True)
         table.add_column("component")
         table.add_column("value", justify="right")
         table.add_row("fitness", f"{evaluation.fitness:.6g}", style="bold")
         for key, value in evaluation.components.items():
             table.add_row(key, f"{value:.6g}")
         out.print(table)
+        err.print(chosen.describe, markup=False)
         if evaluation.detail:
-            out.print(evaluation.detail)
+            out.print(evaluation.detail, markup=False)
+    if not reproduced:
+        assert chosen.recorded is not None
+        err.print(
+            f"error: re-scoring gives fitness {evaluation.fitness!r} ({evaluation.status}), but the run "
+            f"recorded {chosen.recorded.fitness!r} ({chosen.recorded.status}): the backend is not "
+            "deterministic, or the run was altered",
+            style="bold red",
+            markup=False,
+        )
+        raise typer.Exit(2)
     if not evaluation.status.viable:
         raise typer.Exit(1)
+
+
+def _settings(items: list[str] | None) -> dict[str, object]:
+    settings: dict[str, object] = {}
+    for item in items or []:
+        key, sep, raw = item.partition("=")
+        if not sep or not key.strip():
+            raise typer.BadParameter(f"{item!r} is not KEY=VALUE", param_hint="--set")
+        try:
+            settings[key.strip()] = json.loads(raw)
+        except json.JSONDecodeError:
+            settings[key.strip()] = raw
+    return settings

@@ -1,102 +1,111 @@
-"""``gaitgram evolve``: run GE on a grammar, with progress, checkpoints and resume."""
+"""``gaitgram evolve``: run GE on a grammar, with progress, checkpoints and a verified resume."""
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
+from gaitgram.backends.api import Evaluator
 from gaitgram.cli.common import err, load_usable
 from gaitgram.cli.options import Defines, parse_defines
-from gaitgram.evolution.config import ConfigError, load_config
-from gaitgram.evolution.engine import CheckpointError, GenerationStats
-from gaitgram.evolution.session import (
-    SessionError,
-    load_evaluator,
-    resume_session,
-    run_session,
-    start_session,
-    stop_on_interrupt,
-)
+from gaitgram.evolution.config import ConfigError, RunConfig, load_config, with_overrides
+from gaitgram.evolution.engine import CheckpointError, GenerationStats, load_checkpoint
+from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
+from gaitgram.evolution.session import run_session, stop_on_interrupt
+from gaitgram.language.source import SourceError, read_source
+from gaitgram.pipeline import Pipeline, PipelineError
+
+
+def fail(message: str, code: int = 2) -> typer.Exit:
+    err.print(f"error: {message}", style="bold red", markup=False, highlight=False)
+    return typer.Exit(code)
 
 
 def command(
     grammar: Annotated[
-        Path | None, typer.Argument(help="The grammar to evolve (not needed with --resume).")
+        Path | None,
+        typer.Argument(help="The grammar to evolve; with --resume, only checked against the run's copy."),
     ] = None,
     config: Annotated[
-        Path | None, typer.Option("--config", "-c", help="A run.toml; see docs/evolve.md.")
+        Path | None, typer.Option("--config", "-c", help="A run.toml with any of the keys in docs/evolve.md.")
     ] = None,
     generations: Annotated[
-        int | None, typer.Option(min=1, help="Generations after the initial one [50].")
+        int | None, typer.Option(min=1, help="Generations after the initial one (default 50).")
     ] = None,
-    population: Annotated[int | None, typer.Option(min=2, help="Population size [75].")] = None,
-    runs: Annotated[int | None, typer.Option(min=1, help="Independent runs with derived seeds [1].")] = None,
-    seed: Annotated[int | None, typer.Option(min=0, help="Random seed [0].")] = None,
-    backend: Annotated[str | None, typer.Option(help="Fitness backend [the grammar's @backend].")] = None,
-    threads: Annotated[int | None, typer.Option(min=1, help="Backend threads [all cores].")] = None,
+    population: Annotated[int | None, typer.Option(min=2, help="Population size (default 75).")] = None,
+    runs: Annotated[
+        int | None, typer.Option(min=1, help="Independent runs with derived seeds (default 1).")
+    ] = None,
+    seed: Annotated[int | None, typer.Option(min=0, help="Random seed (default 0).")] = None,
+    backend: Annotated[
+        str | None,
+        typer.Option(help="Fitness backend (default: the grammar's @backend, else mujoco-horse)."),
+    ] = None,
+    threads: Annotated[
+        int | None,
+        typer.Option(min=1, help="Simulation threads, for backends that use them (default: all cores)."),
+    ] = None,
     out: Annotated[
-        Path | None, typer.Option("--out", "-o", help="Run directory [runs/GRAMMAR-seedS].")
+        Path | None,
+        typer.Option("--out", "-o", help="A new run directory (default runs/GRAMMAR-seedSEED)."),
     ] = None,
-    resume: Annotated[Path | None, typer.Option(help="Continue the stopped run in this directory.")] = None,
-    scheduler: Annotated[str | None, typer.Option(help="Dask scheduler address, tcp://HOST:PORT.")] = None,
+    resume: Annotated[
+        Path | None,
+        typer.Option(help="Continue the run in this directory; any flag given must agree with it."),
+    ] = None,
+    scheduler: Annotated[
+        str | None, typer.Option(help="Evaluate on the Dask scheduler at this address, tcp://HOST:PORT.")
+    ] = None,
     dask_local: Annotated[
-        int | None, typer.Option(min=1, help="Start a local Dask cluster of N workers.")
+        int | None, typer.Option(min=1, help="Evaluate on a local Dask cluster of this many workers.")
     ] = None,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print only the summary.")] = False,
     jsonl: Annotated[
-        bool, typer.Option("--jsonl", help="One JSON line of statistics per generation.")
+        bool, typer.Option("--jsonl", help="Print one JSON line of statistics per generation.")
     ] = False,
     defines: Defines = None,
 ) -> None:
     """Evolve gaits with GE (the paper's Table 1 parameters by default).
 
     Every generation is checkpointed: Ctrl-C stops cleanly after the current one, and --resume
-    continues to exactly the result of an uninterrupted run.
+    continues to exactly the result of an uninterrupted run. A resume refuses any grammar, --define,
+    config or flag that would change the run's meaning.
     """
-    values = parse_defines(defines)
+    flags = {"generations": generations, "population": population, "runs": runs, "seed": seed}
+    flags["backend"] = backend
+    given = {k: v for k, v in flags.items() if v is not None}
     try:
         if resume is not None:
-            session = resume_session(resume, values)
+            directory = _resume(resume, grammar, config, given, defines, out)
+            pipeline = directory.pipeline
         else:
             if grammar is None:
                 raise typer.BadParameter("give a grammar to evolve, or --resume DIR", param_hint="GRAMMAR")
-            checked = load_usable(grammar, values)
-            run_config = load_config(
-                config,
-                {
-                    "generations": generations,
-                    "population": population,
-                    "runs": runs,
-                    "seed": seed,
-                    "backend": backend,
-                    "backend_settings": {"threads": threads} if threads else None,
-                },
-            )
-            directory = out or Path("runs") / f"{grammar.stem}-seed{run_config.seed}"
-            session = start_session(directory, checked.grammar.source.text, str(grammar), run_config, values)
-        evaluator = load_evaluator(session.backend, session.config.backend_settings)
-    except (ConfigError, SessionError, CheckpointError) as error:
-        err.print(f"error: {error}", style="bold red")
-        raise typer.Exit(2) from None
+            values = parse_defines(defines)
+            pipeline = Pipeline.build(load_usable(grammar, values), load_config(config, given))
+        # Everything is checked and the backend loaded before a new run directory is made.
+        evaluator = _evaluator(pipeline, _runtime(pipeline, threads), scheduler, dask_local)
+        if resume is None:
+            try:
+                directory = RunDirectory.create(
+                    out or Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}",
+                    pipeline,
+                    defines=values,
+                    origin=str(grammar),
+                )
+            except RunDirectoryError:
+                evaluator.close()
+                raise
+    except (ConfigError, PipelineError, RunDirectoryError, CheckpointError) as error:
+        raise fail(str(error)) from None
 
-    if scheduler or dask_local:
-        from gaitgram.evolution.distributed import DaskEvaluator, DaskMissing
-
-        try:
-            evaluator = DaskEvaluator.connect(
-                session.backend, session.config.backend_settings, address=scheduler, local_workers=dask_local
-            )
-        except DaskMissing as error:
-            err.print(f"error: {error}", style="bold red")
-            raise typer.Exit(2) from None
-
-    total = session.config.runs * (session.config.generations + 1)
+    run_config = directory.config
+    total = run_config.runs * (run_config.generations + 1)
     out_console = Console(highlight=False, soft_wrap=True)
     progress = Progress(
         TextColumn("run {task.fields[run]}"),
@@ -116,7 +125,9 @@ def command(
         evaluations += stats.evaluations
         rate = evaluations / max(time.perf_counter() - started, 1e-9)
         if jsonl:
-            out_console.out(json.dumps({"run": run, **stats.as_record()}))
+            from gaitgram import jsonio
+
+            out_console.out(jsonio.dumps({"run": run, **stats.as_record()}), highlight=False)
         progress.update(
             task,
             advance=1,
@@ -130,27 +141,92 @@ def command(
         with progress, stop_on_interrupt() as should_stop:
             task = progress.add_task("evolve", total=total, run=0, best="-", average="-", rate="-")
             states = run_session(
-                session,
+                directory,
                 evaluator,
                 resume=resume is not None,
                 on_generation=on_generation,
                 should_stop=should_stop,
             )
-    except CheckpointError as error:
-        err.print(f"error: {error}", style="bold red")
-        raise typer.Exit(2) from None
+    except (CheckpointError, PipelineError) as error:
+        raise fail(str(error)) from None
     finally:
         evaluator.close()
 
-    done = len(states) == session.config.runs and all(
-        s.generation == session.config.generations for s in states
-    )
+    done = len(states) == run_config.runs and all(s.generation == run_config.generations for s in states)
     if not done:
         err.print(
-            f"stopped; continue with: gaitgram evolve --resume {session.directory}", style="bold yellow"
+            f"stopped; continue with: gaitgram evolve --resume {directory.path}",
+            style="bold yellow",
+            markup=False,
         )
         raise typer.Exit(130)
-    best = min((min(s.population, key=lambda i: i.fitness) for s in states), key=lambda i: i.fitness)
+    best = min((s.best for s in states), key=lambda i: i.fitness)
     err.print(
-        f"best fitness {best.fitness:.6g} ({best.evaluation.status}); run directory {session.directory}"
+        f"best fitness {best.fitness:.6g} ({best.evaluation.status}); run directory {directory.path}",
+        markup=False,
     )
+
+
+def _resume(
+    path: Path,
+    grammar: Path | None,
+    config: Path | None,
+    flags: dict[str, Any],
+    defines: list[str] | None,
+    out: Path | None,
+) -> RunDirectory:
+    """Open the run and refuse anything on the command line that disagrees with it."""
+    directory = RunDirectory.open(path)
+    found: list[str] = []
+    if out is not None and out.resolve() != path.resolve():
+        found.append(f"--out {out}: a resumed run stays in {path}")
+    source = None
+    if grammar is not None:
+        try:
+            source = read_source(grammar)
+        except SourceError as error:
+            raise fail(str(error)) from None
+    given: RunConfig | None = None
+    if config is not None:
+        given = load_config(config, flags)
+    elif flags:
+        given = with_overrides(directory.config, **flags)
+    found += directory.differences(
+        grammar=source, defines=parse_defines(defines) if defines else None, config=given
+    )
+    if found:
+        raise RunDirectoryError(
+            f"cannot resume {path}: what was given differs from the run:\n  - "
+            + "\n  - ".join(found)
+            + "\nresume with no grammar or flags (the run keeps its own), or start a new run with --out"
+        )
+    for run, checkpoint in enumerate(directory.checkpoints):  # all of them, before anything runs
+        if checkpoint.exists():
+            load_checkpoint(checkpoint, directory.pipeline, fingerprint=directory.fingerprint, run=run)
+    return directory
+
+
+def _runtime(pipeline: Pipeline, threads: int | None) -> dict[str, Any]:
+    if threads is not None and "threads" in pipeline.spec.runtime_settings:
+        return {"threads": threads}
+    return {}
+
+
+def _evaluator(
+    pipeline: Pipeline, runtime: dict[str, Any], scheduler: str | None, dask_local: int | None
+) -> Evaluator:
+    if not (scheduler or dask_local):
+        return pipeline.load_evaluator(runtime)
+    from gaitgram.evolution.distributed import DaskEvaluator, DaskMissing
+
+    try:
+        return DaskEvaluator.connect(
+            pipeline.backend,
+            {**pipeline.config.backend_settings, **runtime},
+            address=scheduler,
+            local_workers=dask_local,
+        )
+    except DaskMissing as error:
+        raise fail(str(error)) from None
+    except OSError as error:
+        raise fail(f"cannot reach the Dask scheduler {scheduler}: {error}") from None

@@ -2,11 +2,15 @@
 
 One frozen :class:`RunConfig` is resolved before a run starts and written to
 the run directory; nothing else reads parameters from anywhere (no global
-parameter dict). Errors in a config file name the file, the key and the fix.
+parameter dict). Every key is checked when it is read, with the file and the
+key named: an unknown key, a non-finite number, a value out of range or one
+inconsistent with another is refused before anything runs.
 """
 
 from __future__ import annotations
 
+import difflib
+import math
 import tomllib
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, replace
@@ -26,6 +30,26 @@ class WeightStage:
 
     start: int
     weights: Mapping[str, float]
+
+
+#: Bounds that catch typos long before they cost hours or memory (inclusive).
+LIMITS: dict[str, tuple[float, float]] = {
+    "generations": (1, 100_000),
+    "population": (2, 1_000_000),
+    "runs": (1, 10_000),
+    "seed": (0, 2**63 - 1),
+    "max_wraps": (0, 1_000),
+    "codon_size": (2, 2**31 - 1),
+    "elite": (0, 1_000_000),
+    "tournament": (1, 1_000_000),
+    "init_max_depth": (1, 1_000),
+    "grow_probability": (0.0, 1.0),
+    "tail": (0.0, 100.0),
+    "crossover": (0.0, 1.0),
+    "mutation": (0.0, 1.0),
+    "max_depth": (1, 100_000),
+    "samples": (8, 65_536),
+}
 
 
 @dataclass(frozen=True)
@@ -54,25 +78,38 @@ class RunConfig:
     weight_schedule: tuple[WeightStage, ...] = ()
 
     def __post_init__(self) -> None:
-        checks = [
-            (self.generations >= 1, "generations must be at least 1"),
-            (self.population >= 2, "population must be at least 2"),
-            (self.runs >= 1, "runs must be at least 1"),
-            (self.seed >= 0, "seed must be a non-negative integer"),
-            (self.max_wraps >= 0, "max_wraps must be >= 0"),
-            (0 <= self.elite < self.population, "elite must be >= 0 and smaller than the population"),
-            (self.tournament >= 1, "tournament must be at least 1"),
-            (self.init_max_depth >= 1, "init_max_depth must be at least 1"),
-            (0 <= self.grow_probability <= 1, "grow_probability must be in [0, 1]"),
-            (0 <= self.crossover <= 1, "crossover must be a probability in [0, 1]"),
-            (0 <= self.mutation <= 1, "mutation must be a probability in [0, 1]"),
-            (self.codon_size >= 2, "codon_size must be at least 2"),
-            (self.samples >= 8, "samples must be at least 8"),
-            (self.tail >= 0, "tail must be >= 0"),
-        ]
-        for ok, message in checks:
-            if not ok:
-                raise ConfigError(message)
+        for key, (low, high) in LIMITS.items():
+            value = getattr(self, key)
+            if value is None:
+                continue
+            if isinstance(value, float) and not math.isfinite(value):
+                raise ConfigError(f"{key}: must be a finite number, not {value}")
+            if not low <= value <= high:
+                raise ConfigError(f"{key}: must be in [{_show(low)}, {_show(high)}], not {value}")
+        if self.elite >= self.population:
+            raise ConfigError(
+                f"elite: {self.elite} elites leave no room for offspring in a population of "
+                f"{self.population}; make elite smaller than population"
+            )
+        if self.tournament > self.population:
+            raise ConfigError(
+                f"tournament: a tournament of {self.tournament} is larger than the population of "
+                f"{self.population}; make it at most the population"
+            )
+        starts = [stage.start for stage in self.weight_schedule]
+        if len(set(starts)) != len(starts):
+            raise ConfigError("weight_schedule: two stages start at the same generation")
+        for stage in self.weight_schedule:
+            if not 0 <= stage.start <= self.generations:
+                raise ConfigError(
+                    f"weight_schedule: a stage starts at generation {stage.start}, outside the run's "
+                    f"generations 0..{self.generations}"
+                )
+        if self.weight_schedule and min(starts) != 0:
+            raise ConfigError(
+                f"weight_schedule: the first stage starts at generation {min(starts)}; start one at 0 "
+                "so that every generation has stated weights"
+            )
 
     def weights_at(self, generation: int) -> dict[str, float]:
         """The weights in force at ``generation``: the last stage that has started."""
@@ -93,11 +130,13 @@ class RunConfig:
         if self.backend_settings:
             lines += ["", "[backend_settings]"]
             lines += [
-                f"{k} = {_toml_value(v)}" for k, v in self.backend_settings.items() if not isinstance(v, dict)
+                f"{_key(k)} = {_toml_value(v)}"
+                for k, v in self.backend_settings.items()
+                if not isinstance(v, Mapping)
             ]
             for k, v in self.backend_settings.items():
-                if isinstance(v, dict):
-                    lines += ["", f"[backend_settings.{k}]"] + [
+                if isinstance(v, Mapping):
+                    lines += ["", f"[backend_settings.{_key(k)}]"] + [
                         f"{_key(kk)} = {_toml_value(vv)}" for kk, vv in v.items()
                     ]
         for stage in self.weight_schedule:
@@ -111,73 +150,117 @@ class RunConfig:
         return data
 
 
+def _show(number: float) -> str:
+    return f"{number:g}" if isinstance(number, float) else f"{number:,}".replace(",", "_")
+
+
 def _key(key: str) -> str:
-    return key if key.replace("_", "").replace("-", "").isalnum() else '"' + key + '"'
+    bare = key and all(c.isascii() and (c.isalnum() or c in "_-") for c in key)
+    return key if bare else _toml_string(key)
+
+
+def _toml_string(text: str) -> str:
+    escaped = text.replace("\\", "\\\\").replace('"', '\\"')
+    escaped = "".join(c if c.isprintable() or c == " " else f"\\u{ord(c):04x}" for c in escaped)
+    return '"' + escaped + '"'
 
 
 def _toml_value(value: Any) -> str:
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        return _toml_string(value)
     if isinstance(value, float):
+        if not math.isfinite(value):
+            raise ConfigError(f"cannot write the non-finite number {value} to a config file")
         return repr(value)
-    return str(value)
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, Mapping):
+        return "{ " + ", ".join(f"{_key(str(k))} = {_toml_value(v)}" for k, v in value.items()) + " }"
+    raise ConfigError(f"cannot write {value!r} to a config file")
 
 
 _FIELDS = {f.name: f for f in fields(RunConfig)}
 
 
+def read_toml(path: Path) -> dict[str, Any]:
+    """A TOML file's table, every failure a :class:`ConfigError` naming the file."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise ConfigError(f"{path}: not UTF-8 text") from None
+    except OSError as error:
+        raise ConfigError(f"{path}: cannot read: {error.strerror or error}") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise ConfigError(f"{path}: not valid TOML: {error}") from None
+
+
 def load_config(path: Path | None, overrides: Mapping[str, Any] | None = None) -> RunConfig:
     """Defaults, then the TOML file, then ``overrides`` (command-line flags, None = not given)."""
-    data: dict[str, Any] = {}
-    if path is not None:
-        try:
-            data = tomllib.loads(path.read_text(encoding="utf-8"))
-        except OSError as error:
-            raise ConfigError(f"{path}: cannot read: {error.strerror or error}") from None
-        except tomllib.TOMLDecodeError as error:
-            raise ConfigError(f"{path}: not valid TOML: {error}") from None
-    where = str(path) if path else "config"
+    data: dict[str, Any] = read_toml(path) if path is not None else {}
+    where = str(path) if path is not None else "the command line"
     values: dict[str, Any] = {}
     for key, value in data.items():
         if key not in _FIELDS:
-            close = [
-                name for name in _FIELDS if name.replace("_", "") == key.replace("_", "").replace("-", "")
-            ]
-            hint = f"; did you mean {close[0]}?" if close else f"; known keys: {', '.join(sorted(_FIELDS))}"
-            raise ConfigError(f"{where}: unknown key {key!r}{hint}")
+            raise ConfigError(f"{where}: unknown key {key!r}{_suggest(key, _FIELDS)}")
         values[key] = value
-    for key, value in (overrides or {}).items():
-        if value is None:
-            continue
+    flags = {k: v for k, v in (overrides or {}).items() if v is not None}
+    for key, value in flags.items():
         if key == "backend_settings":  # flags add to the file's backend table
             values[key] = {**values.get(key, {}), **value}
         else:
             values[key] = value
-    return _build(values, where)
+    if path is not None and flags:
+        where = f"{path} with {', '.join('--' + k.replace('_', '-') for k in flags)}"
+    return config_from_mapping(values, where)
 
 
-def _build(values: dict[str, Any], where: str) -> RunConfig:
+def config_from_mapping(values: Mapping[str, Any], where: str) -> RunConfig:
+    """A config from plain TOML values, every key checked; errors start with ``where``."""
     converted: dict[str, Any] = {}
     for key, value in values.items():
+        if key not in _FIELDS:
+            raise ConfigError(f"{where}: unknown key {key!r}{_suggest(key, _FIELDS)}")
         if key == "weight_schedule":
             converted[key] = _schedule(value, where)
         elif key == "backend_settings":
-            if not isinstance(value, dict):
-                raise ConfigError(f"{where}: backend_settings must be a table")
-            converted[key] = value
+            if not isinstance(value, Mapping):
+                raise ConfigError(f"{where}: backend_settings: must be a table [backend_settings]")
+            _check_finite(value, f"{where}: [backend_settings]")
+            converted[key] = dict(value)
         elif key == "codons":
             try:
                 converted[key] = CodonMode(value)
             except ValueError:
-                raise ConfigError(f"{where}: codons must be 'lazy' or 'eager', not {value!r}") from None
+                raise ConfigError(f"{where}: codons: must be 'lazy' or 'eager', not {value!r}") from None
         else:
             converted[key] = _typed(key, value, where)
     try:
         return RunConfig(**converted)
     except ConfigError as error:
         raise ConfigError(f"{where}: {error}") from None
+
+
+def _suggest(key: str, known: Mapping[str, Any]) -> str:
+    close = difflib.get_close_matches(key.replace("-", "_"), list(known), n=1, cutoff=0.75)
+    return f"; did you mean {close[0]}?" if close else f"; known keys: {', '.join(sorted(known))}"
+
+
+def _check_finite(value: Any, where: str) -> None:
+    """TOML has ``nan`` and ``inf``: no setting means them."""
+    if isinstance(value, float) and not math.isfinite(value):
+        raise ConfigError(f"{where}: {value} is not a finite number")
+    if isinstance(value, Mapping):
+        for k, v in value.items():
+            _check_finite(v, f"{where} {k}")
+    elif isinstance(value, list):
+        for v in value:
+            _check_finite(v, where)
 
 
 def _typed(key: str, value: Any, where: str) -> Any:
@@ -188,7 +271,12 @@ def _typed(key: str, value: Any, where: str) -> Any:
     if expected is float and isinstance(value, int) and not isinstance(value, bool):
         return float(value)
     if not isinstance(value, expected) or (expected is int and isinstance(value, bool)):
-        raise ConfigError(f"{where}: {key} must be {expected.__name__}, not {value!r}")
+        article = "an" if expected.__name__[0] in "aeiou" else "a"
+        raise ConfigError(f"{where}: {key}: must be {article} {expected.__name__}, not {value!r}")
+    if isinstance(value, float) and not math.isfinite(value):
+        raise ConfigError(f"{where}: {key}: must be a finite number, not {value}")
+    if key == "backend" and not value.strip():
+        raise ConfigError(f"{where}: backend: must name a backend, not an empty string")
     return value
 
 
@@ -197,20 +285,43 @@ def _schedule(value: Any, where: str) -> tuple[WeightStage, ...]:
         raise ConfigError(f"{where}: weight_schedule must be an array of tables [[weight_schedule]]")
     stages = []
     for i, stage in enumerate(value):
-        if (
-            not isinstance(stage, dict)
-            or not isinstance(stage.get("start"), int)
-            or not isinstance(stage.get("weights"), dict)
-        ):
+        if not isinstance(stage, Mapping):
+            raise ConfigError(f"{where}: weight_schedule[{i}] must be a table with start and weights")
+        unknown = set(stage) - {"start", "weights"}
+        if unknown:
+            raise ConfigError(
+                f"{where}: weight_schedule[{i}]: unknown key {sorted(unknown)[0]!r}; a stage has only "
+                "start = N and a weights table"
+            )
+        start, weights = stage.get("start"), stage.get("weights")
+        if isinstance(start, bool) or not isinstance(start, int) or not isinstance(weights, Mapping):
             raise ConfigError(f"{where}: weight_schedule[{i}] needs start = N and a weights table")
-        weights = {}
-        for name, weight in stage["weights"].items():
-            if isinstance(weight, bool) or not isinstance(weight, int | float) or weight < 0:
-                raise ConfigError(f"{where}: weight_schedule[{i}].weights.{name} must be a number >= 0")
-            weights[name] = float(weight)
-        stages.append(WeightStage(stage["start"], weights))
+        checked = {}
+        for name, weight in weights.items():
+            if isinstance(weight, bool) or not isinstance(weight, int | float):
+                raise ConfigError(f"{where}: weight_schedule[{i}].weights.{name} must be a number")
+            if not math.isfinite(weight) or weight < 0:
+                raise ConfigError(
+                    f"{where}: weight_schedule[{i}].weights.{name} must be a finite number >= 0, not {weight}"
+                )
+            checked[str(name)] = float(weight)
+        stages.append(WeightStage(start, checked))
     return tuple(stages)
 
 
 def with_overrides(config: RunConfig, **changes: Any) -> RunConfig:
     return replace(config, **{k: v for k, v in changes.items() if v is not None})
+
+
+def differences(saved: RunConfig, given: RunConfig, *, ignore: frozenset[str] = frozenset()) -> list[str]:
+    """``key: saved -> given`` for every field (and backend setting) where two configs differ."""
+    found = []
+    for f in fields(RunConfig):
+        a, b = getattr(saved, f.name), getattr(given, f.name)
+        if f.name == "backend_settings":
+            for key in sorted(set(a) | set(b)):
+                if key not in ignore and a.get(key) != b.get(key):
+                    found.append(f"backend_settings.{key}: {a.get(key)!r} -> {b.get(key)!r}")
+        elif a != b:
+            found.append(f"{f.name}: {a!r} -> {b!r}")
+    return found

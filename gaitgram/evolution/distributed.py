@@ -34,9 +34,11 @@ def _import_distributed() -> Any:
 @cache
 def _worker_evaluator(backend: str, settings_items: tuple[tuple[str, Any], ...]) -> Evaluator:
     """One loaded backend per worker process and settings: models are loaded once, not per task."""
-    from gaitgram.evolution.session import load_evaluator
+    from gaitgram.backends.registry import get_backend
 
-    return load_evaluator(backend, _thaw(settings_items))
+    spec = get_backend(backend)
+    assert spec.load is not None  # the pipeline that sent the task loaded the same backend
+    return spec.load(_thaw(settings_items))
 
 
 def _freeze(settings: Mapping[str, Any]) -> tuple[tuple[str, Any], ...]:

@@ -1,13 +1,19 @@
 """The GE loop: initialise, evaluate, select, vary, replace; checkpoint every generation.
 
-A run is a pure function of its config, grammar, backend and seed: all
-randomness comes from one generator whose state is checkpointed with the
+A run is a pure function of its pipeline (grammar, config, backend) and seed:
+all randomness comes from one generator whose state is checkpointed with the
 population, so a resumed run continues exactly where it stopped. Generation 0
 is the initial population; then ``config.generations`` generations follow.
+
+A checkpoint is untrusted input when it is read back: it carries a digest of
+its content and the fingerprint of the run it belongs to, and every field is
+checked, so a hand-edited, truncated or foreign checkpoint is refused as
+corrupt instead of resuming into different results.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 from collections.abc import Callable, Mapping, Sequence
@@ -17,29 +23,34 @@ from typing import Any
 
 import numpy as np
 
-from gaitgram.analysis import CheckResult
+from gaitgram import jsonio
 from gaitgram.backends.api import Evaluation, Evaluator, GaitStatus
-from gaitgram.evolution.config import RunConfig
 from gaitgram.fileio import write_atomically
-from gaitgram.ge import compile_mapper
 from gaitgram.ge.initialisation import ramped_population
 from gaitgram.ge.operators import Genome, elite, int_flip_mutation, one_point_crossover, tournament
-from gaitgram.motion.gait import motion_batch
+from gaitgram.pipeline import Individual, Pipeline
 
-CHECKPOINT_VERSION = 1
+__all__ = [
+    "ENGINE_REVISION",
+    "CheckpointError",
+    "GenerationStats",
+    "Individual",
+    "RunState",
+    "generation_stats",
+    "initial_state",
+    "load_checkpoint",
+    "run_evolution",
+    "run_seed",
+    "save_checkpoint",
+    "step",
+]
 
-
-@dataclass(frozen=True)
-class Individual:
-    genome: Genome
-    used_codons: int
-    phenotype: str | None
-    joints: Mapping[str, str]
-    evaluation: Evaluation
-
-    @property
-    def fitness(self) -> float:
-        return self.evaluation.fitness
+#: Bumped whenever the same pipeline and seed could give a different run (operators, selection,
+#: initialisation, statistics). Run directories record it; another revision is not resumed.
+ENGINE_REVISION = 1
+CHECKPOINT_VERSION = 2
+#: Longest genome a checkpoint may hold: far beyond what initialisation and crossover make.
+MAX_CHECKPOINT_GENOME = 10_000_000
 
 
 @dataclass(frozen=True)
@@ -62,48 +73,6 @@ class GenerationStats:
             "evaluations": self.evaluations,
             **{f"mean_{k}": v for k, v in sorted(self.components.items())},
         }
-
-
-class Problem:
-    """The grammar side of a run: mapper, analyses, joints and their freedom schedule."""
-
-    def __init__(
-        self, checked: CheckResult, config: RunConfig, joint_names: Sequence[str] | None = None
-    ) -> None:
-        grammar = checked.grammar
-        self.grammar = grammar
-        self.facts = checked.facts
-        self.config = config
-        self.mapper = compile_mapper(
-            grammar, codons=config.codons, max_wraps=config.max_wraps, max_depth=config.max_depth
-        )
-        self.joint_names = tuple(joint_names) if joint_names else tuple(j.joint for j in grammar.joints)
-        self._freedom = {j.joint: j for j in grammar.joints}
-
-    def frozen_at(self, generation: int) -> frozenset[str]:
-        """Joints that hold neutral this generation (Table 3)."""
-        return frozenset(name for name, decl in self._freedom.items() if not decl.is_free(generation))
-
-    def evaluate(self, genomes: Sequence[Genome], evaluator: Evaluator, generation: int) -> list[Individual]:
-        mapped = self.mapper.map_many(genomes)
-        batch = motion_batch(
-            [m.joints if m.valid else None for m in mapped],
-            self.joint_names,
-            units=self.grammar.units,
-            n_samples=self.config.samples,
-            frozen=self.frozen_at(generation),
-        )
-        evaluations = evaluator.evaluate(
-            batch, generation=generation, weights=self.config.weights_at(generation) or None
-        )
-        if len(evaluations) != len(genomes):
-            raise RuntimeError(
-                f"the backend returned {len(evaluations)} evaluations for {len(genomes)} gaits"
-            )
-        return [
-            Individual(tuple(g), m.used_codons, m.phenotype, m.joints, e)
-            for g, m, e in zip(genomes, mapped, evaluations, strict=True)
-        ]
 
 
 def generation_stats(generation: int, population: Sequence[Individual], evaluations: int) -> GenerationStats:
@@ -131,16 +100,22 @@ class RunState:
     rng: np.random.Generator
     history: list[GenerationStats]
 
+    @property
+    def best(self) -> Individual:
+        return min(self.population, key=lambda i: i.fitness)
 
-def run_seed(config: RunConfig, run: int) -> np.random.SeedSequence:
-    """Independent, reproducible seeds for each run of an invocation."""
-    return np.random.SeedSequence(config.seed).spawn(config.runs)[run]
+
+def run_seed(seed: int, runs: int, run: int) -> np.random.SeedSequence:
+    """Independent, reproducible seeds for each run of an invocation (run ``i`` of any count is the
+    same: ``spawn`` keys children by index)."""
+    return np.random.SeedSequence(seed).spawn(runs)[run]
 
 
-def initial_state(problem: Problem, evaluator: Evaluator, config: RunConfig, run: int) -> RunState:
-    rng = np.random.default_rng(run_seed(config, run))
+def initial_state(pipeline: Pipeline, evaluator: Evaluator, run: int) -> RunState:
+    config = pipeline.config
+    rng = np.random.default_rng(run_seed(config.seed, config.runs, run))
     trees = ramped_population(
-        problem.facts,
+        pipeline.facts,
         rng,
         config.population,
         max_depth=config.init_max_depth,
@@ -149,12 +124,13 @@ def initial_state(problem: Problem, evaluator: Evaluator, config: RunConfig, run
         codon_size=config.codon_size,
         tail=config.tail,
     )
-    population = problem.evaluate([t.genome for t in trees], evaluator, 0)
+    population = pipeline.evaluate([t.genome for t in trees], evaluator, 0)
     return RunState(0, population, rng, [generation_stats(0, population, len(population))])
 
 
-def step(state: RunState, problem: Problem, evaluator: Evaluator, config: RunConfig) -> RunState:
+def step(state: RunState, pipeline: Pipeline, evaluator: Evaluator) -> RunState:
     """One generation: tournament, crossover, mutation, evaluation, elitist generational replacement."""
+    config = pipeline.config
     generation = state.generation + 1
     rng, population = state.rng, state.population
     fitness = [i.fitness for i in population]
@@ -171,25 +147,25 @@ def step(state: RunState, problem: Problem, evaluator: Evaluator, config: RunCon
         else:
             child_a, child_b = first.genome, second.genome
         offspring += [child_a, child_b]
+    offspring = offspring[:n_offspring]
+    # Within used: only the codons a child's own mapping reads may flip (PonyGE2's within_used).
+    used_counts: list[int | None] = (
+        [m.used_codons for m in pipeline.map(offspring)]
+        if config.mutation_within_used
+        else [None] * len(offspring)
+    )
     offspring = [
-        int_flip_mutation(
-            g,
-            rng,
-            probability=config.mutation,
-            codon_size=config.codon_size,
-            used=None if not config.mutation_within_used else len(g),
-        )
-        for g in offspring[:n_offspring]
+        int_flip_mutation(g, rng, probability=config.mutation, codon_size=config.codon_size, used=used)
+        for g, used in zip(offspring, used_counts, strict=True)
     ]
     elites = [population[i] for i in elite(fitness, config.elite)]
-    changed = problem.frozen_at(generation) != problem.frozen_at(state.generation) or config.weights_at(
+    changed = pipeline.frozen_at(generation) != pipeline.frozen_at(state.generation) or pipeline.weights_at(
         generation
-    ) != config.weights_at(state.generation)
+    ) != pipeline.weights_at(state.generation)
     if changed:  # the elites' scores are stale: a joint came free or the weights moved
-        evaluated = problem.evaluate([i.genome for i in elites] + offspring, evaluator, generation)
-        new_population = evaluated
+        new_population = pipeline.evaluate([i.genome for i in elites] + offspring, evaluator, generation)
     else:
-        new_population = elites + problem.evaluate(offspring, evaluator, generation)
+        new_population = elites + pipeline.evaluate(offspring, evaluator, generation)
     evaluations = len(offspring) + (len(elites) if changed else 0)
     history = [*state.history, generation_stats(generation, new_population, evaluations)]
     return RunState(generation, new_population, rng, history)
@@ -198,73 +174,171 @@ def step(state: RunState, problem: Problem, evaluator: Evaluator, config: RunCon
 # ---- checkpoints -------------------------------------------------------------------------
 
 
-def save_checkpoint(path: Path, state: RunState, config_text: str) -> None:
-    data = {
-        "version": CHECKPOINT_VERSION,
-        "config": config_text,
-        "generation": state.generation,
-        "rng": state.rng.bit_generator.state,
-        "population": [
-            {"genome": list(i.genome), "evaluation": i.evaluation.as_record()} for i in state.population
-        ],
-        "history": [s.as_record() for s in state.history],
-    }
-    write_atomically(path, json.dumps(data))
-
-
 class CheckpointError(ValueError):
+    """A checkpoint that cannot be resumed: unreadable, corrupt, or another run's."""
+
+
+def _digest(content: Mapping[str, Any]) -> str:
+    text = json.dumps(content, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def save_checkpoint(path: Path, state: RunState, *, fingerprint: str, run: int) -> None:
+    content = jsonio.finite_or_none(
+        {
+            "version": CHECKPOINT_VERSION,
+            "fingerprint": fingerprint,
+            "run": run,
+            "generation": state.generation,
+            "rng": state.rng.bit_generator.state,
+            "population": [
+                {"genome": list(i.genome), "evaluation": i.evaluation.as_record()} for i in state.population
+            ],
+            "history": [s.as_record() for s in state.history],
+        }
+    )
+    write_atomically(path, jsonio.dumps({"digest": _digest(content), "checkpoint": content}))
+
+
+def load_checkpoint(path: Path, pipeline: Pipeline, *, fingerprint: str, run: int) -> RunState:
+    """Read a checkpoint back, trusting nothing in it."""
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError) as error:
+        raise CheckpointError(f"{path}: cannot read the checkpoint: {error}") from None
+    except json.JSONDecodeError as error:
+        raise CheckpointError(f"{path}: corrupt checkpoint (not JSON: {error})") from None
+    try:
+        return _checked_state(data, pipeline, fingerprint, run)
+    except _Corrupt as problem:
+        raise CheckpointError(
+            f"{path}: corrupt checkpoint: {problem}; it cannot be resumed (restore it from a backup, "
+            "or start the run again)"
+        ) from None
+
+
+class _Corrupt(Exception):
     pass
 
 
-def load_checkpoint(path: Path, problem: Problem, config_text: str) -> RunState:
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, json.JSONDecodeError) as error:
-        raise CheckpointError(f"{path}: cannot read the checkpoint: {error}") from None
-    if data.get("version") != CHECKPOINT_VERSION:
-        raise CheckpointError(f"{path}: checkpoint version {data.get('version')} is not {CHECKPOINT_VERSION}")
-    if data["config"] != config_text:
-        raise CheckpointError(
-            f"{path}: the run was started with a different configuration; resume with the same one"
-        )
-    rng = np.random.default_rng()
-    rng.bit_generator.state = data["rng"]
-    genomes = [tuple(entry["genome"]) for entry in data["population"]]
-    mapped = problem.mapper.map_many(genomes)
-    population = [
-        Individual(g, m.used_codons, m.phenotype, m.joints, _evaluation(entry["evaluation"]))
-        for g, m, entry in zip(genomes, mapped, data["population"], strict=True)
-    ]
-    history = [_stats(record) for record in data["history"]]
-    return RunState(data["generation"], population, rng, history)
+def _expect(condition: bool, problem: str) -> None:
+    if not condition:
+        raise _Corrupt(problem)
 
 
-def _evaluation(record: Mapping[str, Any]) -> Evaluation:
-    return Evaluation(
-        record["fitness"], GaitStatus(record["status"]), dict(record["components"]), record["detail"]
+def _is_int(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+def _checked_state(data: Any, pipeline: Pipeline, fingerprint: str, run: int) -> RunState:
+    config = pipeline.config
+    _expect(isinstance(data, dict) and set(data) == {"digest", "checkpoint"}, "not a gaitgram checkpoint")
+    content = data["checkpoint"]
+    _expect(isinstance(content, dict), "not a gaitgram checkpoint")
+    version = content.get("version")
+    _expect(version == CHECKPOINT_VERSION, f"format version {version!r}, expected {CHECKPOINT_VERSION}")
+    _expect(data["digest"] == _digest(content), "its content does not match its digest (edited or damaged)")
+    _expect(content.get("fingerprint") == fingerprint, "it belongs to another run (fingerprint differs)")
+    _expect(content.get("run") == run, f"it is run {content.get('run')!r}'s, not run {run}'s")
+    generation = content.get("generation")
+    _expect(
+        _is_int(generation) and 0 <= generation <= config.generations,
+        f"generation {generation!r} is outside the run's 0..{config.generations}",
     )
+    rng = np.random.default_rng()
+    try:
+        rng.bit_generator.state = content.get("rng")
+    except (TypeError, ValueError, KeyError, OverflowError):
+        raise _Corrupt("its random generator state is malformed") from None
+
+    entries = content.get("population")
+    _expect(
+        isinstance(entries, list) and len(entries) == config.population,
+        f"the population has {len(entries) if isinstance(entries, list) else 'no'} individuals, "
+        f"the run {config.population}",
+    )
+    genomes: list[Genome] = []
+    evaluations: list[Evaluation] = []
+    for i, entry in enumerate(entries):
+        _expect(isinstance(entry, dict), f"individual {i} is not a record")
+        genome = entry.get("genome")
+        _expect(
+            isinstance(genome, list) and 0 < len(genome) <= MAX_CHECKPOINT_GENOME,
+            f"individual {i} has no genome",
+        )
+        _expect(
+            all(_is_int(c) and 0 <= c < config.codon_size for c in genome),
+            f"individual {i}'s genome has codons outside [0, {config.codon_size})",
+        )
+        genomes.append(tuple(genome))
+        evaluations.append(_evaluation(entry.get("evaluation"), i))
+    mapped = pipeline.map(genomes)
+    population = [
+        Individual(g, m.used_codons, m.phenotype, m.joints, e)
+        for g, m, e in zip(genomes, mapped, evaluations, strict=True)
+    ]
+    records = content.get("history")
+    _expect(
+        isinstance(records, list) and len(records) == generation + 1,
+        f"the history does not cover generations 0..{generation}",
+    )
+    history = [_stats(record, index) for index, record in enumerate(records)]
+    _expect(
+        history[-1].best == min(e.fitness for e in evaluations),
+        "the history's last best is not the population's best",
+    )
+    return RunState(generation, population, rng, history)
 
 
-def _stats(record: Mapping[str, Any]) -> GenerationStats:
-    components = {k.removeprefix("mean_"): v for k, v in record.items() if k.startswith("mean_")}
+def _evaluation(record: Any, index: int) -> Evaluation:
+    _expect(isinstance(record, dict), f"individual {index} has no evaluation")
+    fitness, status = record.get("fitness"), record.get("status")
+    components, detail = record.get("components"), record.get("detail")
+    _expect(_is_number(fitness) and math.isfinite(fitness), f"individual {index}'s fitness is not a number")
+    _expect(status in {s.value for s in GaitStatus}, f"individual {index}'s status {status!r} is unknown")
+    _expect(
+        isinstance(components, dict)
+        and all(isinstance(k, str) and _is_number(v) and math.isfinite(v) for k, v in components.items()),
+        f"individual {index}'s components are not finite numbers",
+    )
+    _expect(detail is None or isinstance(detail, str), f"individual {index}'s detail is not text")
+    return Evaluation(float(fitness), GaitStatus(status), dict(components), detail)
+
+
+def _stats(record: Any, index: int) -> GenerationStats:
+    _expect(isinstance(record, dict), f"history entry {index} is not a record")
+    _expect(record.get("generation") == index, f"history entry {index} is for another generation")
+    number = {k: record.get(k) for k in ("best", "average", "std")}
+    for key, value in number.items():
+        _expect(value is None or _is_number(value), f"history entry {index}: {key} is not a number")
+    counts = {k: record.get(k) for k in ("invalid", "evaluations")}
+    for key, value in counts.items():
+        _expect(_is_int(value) and value >= 0, f"history entry {index}: {key} is not a count")
+    components = {}
+    for key, value in record.items():
+        if key.startswith("mean_"):
+            _expect(value is None or _is_number(value), f"history entry {index}: {key} is not a number")
+            components[key.removeprefix("mean_")] = math.nan if value is None else float(value)
     return GenerationStats(
-        record["generation"],
-        record["best"],
-        record["average"],
-        record["std"],
-        record["invalid"],
-        record["evaluations"],
+        index,
+        *(math.nan if number[k] is None else float(number[k]) for k in ("best", "average", "std")),
+        counts["invalid"],
+        counts["evaluations"],
         components,
     )
 
 
 def run_evolution(
-    problem: Problem,
+    pipeline: Pipeline,
     evaluator: Evaluator,
-    config: RunConfig,
     run: int,
     run_dir: Path,
     *,
+    fingerprint: str,
     resume: bool = False,
     on_generation: Callable[[int, GenerationStats], None] | None = None,
     should_stop: Callable[[], bool] = lambda: False,
@@ -272,20 +346,19 @@ def run_evolution(
     """One run, checkpointed to ``run_dir`` after every generation; stops early if asked."""
     from gaitgram.evolution.records import write_run_records  # records depend on the engine's types
 
-    config_text = config.to_toml()
     checkpoint = run_dir / "checkpoint.json"
     if resume and checkpoint.exists():
-        state = load_checkpoint(checkpoint, problem, config_text)
+        state = load_checkpoint(checkpoint, pipeline, fingerprint=fingerprint, run=run)
     else:
-        state = initial_state(problem, evaluator, config, run)
-        save_checkpoint(checkpoint, state, config_text)
-        write_run_records(run_dir, problem, state)
+        state = initial_state(pipeline, evaluator, run)
+        save_checkpoint(checkpoint, state, fingerprint=fingerprint, run=run)
+        write_run_records(run_dir, pipeline, state)
         if on_generation:
             on_generation(run, state.history[-1])
-    while state.generation < config.generations and not should_stop():
-        state = step(state, problem, evaluator, config)
-        save_checkpoint(checkpoint, state, config_text)
-        write_run_records(run_dir, problem, state)
+    while state.generation < pipeline.config.generations and not should_stop():
+        state = step(state, pipeline, evaluator)
+        save_checkpoint(checkpoint, state, fingerprint=fingerprint, run=run)
+        write_run_records(run_dir, pipeline, state)
         if on_generation:
             on_generation(run, state.history[-1])
     return state

@@ -8,16 +8,17 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from gaitgram import jsonio
 from gaitgram.fileio import write_atomically
 from gaitgram.ge.visualise import ascii_tree
-from gaitgram.motion.gait import sampled_curve
+from gaitgram.motion.gait import motion_batch
 
 if TYPE_CHECKING:
-    from gaitgram.evolution.engine import Problem, RunState
+    from gaitgram.evolution.engine import RunState
+    from gaitgram.pipeline import Individual, Pipeline
 
 
 def stats_csv(records: list[dict[str, Any]]) -> str:
@@ -31,17 +32,18 @@ def stats_csv(records: list[dict[str, Any]]) -> str:
     return out.getvalue()
 
 
-def best_record(problem: Problem, state: RunState) -> dict[str, Any]:
-    best = min(state.population, key=lambda i: i.fitness)
-    derivation = problem.mapper.map(best.genome)
+def best_record(pipeline: Pipeline, state: RunState) -> dict[str, Any]:
+    best = state.best
+    derivation = pipeline.mapper.map(best.genome)
     return {
         "generation": state.generation,
         "genome": list(best.genome),
         "used_codons": best.used_codons,
         "phenotype": best.phenotype,
         "joints": dict(best.joints),
-        # Each curve in degrees at phases k / CURVE_SAMPLES (null if it cannot be sampled).
-        "curves": {joint: _curve(text) for joint, text in best.joints.items()},
+        # Each curve as the backend received it: degrees at phases k / CURVE_SAMPLES, frozen joints
+        # at 0 (null if the individual has no usable motion).
+        "curves": _curves(pipeline, best, state.generation),
         "fitness": best.fitness,
         "status": best.evaluation.status.value,
         "components": dict(best.evaluation.components),
@@ -54,13 +56,23 @@ def best_record(problem: Problem, state: RunState) -> dict[str, Any]:
 CURVE_SAMPLES = 64
 
 
-def _curve(text: str) -> list[float] | None:
-    values, problem, _ = sampled_curve(text, CURVE_SAMPLES)
-    return None if problem is not None else [round(float(v), 6) for v in values]
+def _curves(pipeline: Pipeline, best: Individual, generation: int) -> dict[str, list[float] | None]:
+    """The grammar's joints through the same unit conversion and freedom schedule as scoring."""
+    joints = tuple(best.joints)
+    batch = motion_batch(
+        [best.joints if best.phenotype is not None else None],
+        joints,
+        units=pipeline.grammar.units,
+        n_samples=CURVE_SAMPLES,
+        frozen=pipeline.frozen_at(generation),
+    )
+    if batch.problems[0] is not None:
+        return dict.fromkeys(joints)
+    return {joint: [round(float(v), 6) for v in batch.angles[0, j]] for j, joint in enumerate(joints)}
 
 
-def write_run_records(run_dir: Path, problem: Problem, state: RunState) -> None:
-    records = [s.as_record() for s in state.history]
+def write_run_records(run_dir: Path, pipeline: Pipeline, state: RunState) -> None:
+    records = [jsonio.finite_or_none(s.as_record()) for s in state.history]
     write_atomically(run_dir / "stats.csv", stats_csv(records))
-    write_atomically(run_dir / "stats.jsonl", "".join(json.dumps(r) + "\n" for r in records))
-    write_atomically(run_dir / "best.json", json.dumps(best_record(problem, state), indent=1) + "\n")
+    write_atomically(run_dir / "stats.jsonl", "".join(jsonio.dumps(r) + "\n" for r in records))
+    write_atomically(run_dir / "best.json", jsonio.dumps(best_record(pipeline, state), indent=1) + "\n")

@@ -135,9 +135,24 @@ def compile_mapper(
 
     ``joints`` (joint name -> rule name) defaults to the grammar's ``@joint``
     declarations; pass it to get joint phenotypes from a bare ``Cfg``.
+
+    A grammar that carries an error diagnostic (a syntax error, a malformed
+    range or annotation: the text does not say what it means) raises
+    :class:`MapperError` rather than map what the parser could salvage. Rules
+    the linter reports (undefined, unproductive) have a defined meaning for the
+    mapper: a genome that reaches one is invalid.
     """
     options = MappingOptions(codons, max_wraps, max_depth)  # type: ignore[arg-type]  # validated there
     if isinstance(source, Grammar):
+        errors = [d for d in source.diagnostics if d.is_error]
+        if errors:
+            first = errors[0]
+            where = source.source.location(first.span.start)
+            raise MapperError(
+                f"{source.source.name}:{where.line}:{where.column}: error[{first.code.code}] "
+                f"{first.message}: a grammar with errors is not compiled "
+                f"({len(errors)} error{'s' if len(errors) > 1 else ''}; see `gaitgram check`)"
+            )
         cfg = build_cfg(source)
         if joints is None:
             joints = {decl.joint: decl.rule for decl in source.joints}

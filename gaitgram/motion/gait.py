@@ -105,7 +105,10 @@ def _fill(
             return problem, f"{joint}: {detail}"
         out[j] = values
         if scale != 1.0:
-            out[j] *= scale
+            with np.errstate(over="ignore"):
+                out[j] *= scale
+            if not np.isfinite(out[j]).all():  # finite radians can overflow as degrees
+                return MotionProblem.NON_FINITE, f"{joint}: the curve is not finite in degrees"
     return None, None
 
 

@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -17,8 +18,9 @@ from gaitgram.analysis import check
 from gaitgram.backends.curve_match import CurveMatch
 from gaitgram.cli import app
 from gaitgram.evolution.config import ConfigError, RunConfig, WeightStage, load_config
-from gaitgram.evolution.engine import Problem, run_evolution
+from gaitgram.evolution.engine import run_evolution
 from gaitgram.language import parse
+from gaitgram.pipeline import Pipeline
 
 runner = CliRunner()
 
@@ -55,9 +57,13 @@ def config_file(tmp_path: Path, generations: int = 25, **extra: object) -> Path:
     return path
 
 
+def pipeline(config: RunConfig) -> Pipeline:
+    config = replace(config, backend="curve-match", backend_settings={"targets": TARGETS})
+    return Pipeline.build(check(parse(GRAMMAR)), config)
+
+
 def evolve(tmp_path: Path, config: RunConfig, run_dir: str = "run"):
-    problem = Problem(check(parse(GRAMMAR)), config)
-    return run_evolution(problem, CurveMatch(TARGETS), config, 0, tmp_path / run_dir)
+    return run_evolution(pipeline(config), CurveMatch(TARGETS), 0, tmp_path / run_dir, fingerprint="test")
 
 
 def test_evolution_finds_a_reachable_target(tmp_path: Path) -> None:
@@ -79,7 +85,7 @@ def test_same_seed_same_run_different_seed_different_run(tmp_path: Path) -> None
 
 
 def test_frozen_joints_hold_neutral_until_free(tmp_path: Path) -> None:
-    problem = Problem(check(parse(GRAMMAR)), RunConfig())
+    problem = pipeline(RunConfig())
     assert problem.frozen_at(2) == {"hip_hind"}
     assert problem.frozen_at(3) == frozenset()
     genome = (7, 0, 3) * 5
@@ -110,6 +116,7 @@ def test_run_directory_records(tmp_path: Path) -> None:
     assert sorted(p.name for p in out.iterdir()) == [
         "config.toml",
         "grammar.gg",
+        "manifest.json",
         "run-000",
         "run-001",
         "summary.json",
@@ -147,13 +154,13 @@ def test_config_errors_are_clear(tmp_path: Path) -> None:
     with pytest.raises(ConfigError, match="unknown key 'generatoins'"):
         load_config(path)
     path.write_text("population = 'many'\n")
-    with pytest.raises(ConfigError, match="population must be int"):
+    with pytest.raises(ConfigError, match="population: must be an int"):
         load_config(path)
     path.write_text("elite = 80\n")
-    with pytest.raises(ConfigError, match="elite must be"):
+    with pytest.raises(ConfigError, match="elite: 80 elites leave no room"):
         load_config(path)
     path.write_text("[[weight_schedule]]\nstart = 0\nweights = { energy = -1 }\n")
-    with pytest.raises(ConfigError, match="must be a number >= 0"):
+    with pytest.raises(ConfigError, match="must be a finite number >= 0"):
         load_config(path)
     path.write_text("generations = \n")
     result = runner.invoke(app, ["evolve", "grammars/sine-walk.gg", "-c", str(path)])
@@ -176,7 +183,7 @@ def _wait_for_generation(path: Path, generation: int, process: subprocess.Popen,
     while time.monotonic() < deadline:
         if path.exists():
             try:
-                if json.loads(path.read_text())["generation"] >= generation:
+                if json.loads(path.read_text())["checkpoint"]["generation"] >= generation:
                     return
             except (json.JSONDecodeError, KeyError):
                 pass

@@ -296,8 +296,23 @@ def test_bad_options_raise(options: dict[str, Any]) -> None:
 
 
 def test_a_grammar_without_rules_cannot_compile() -> None:
-    with pytest.raises(MapperError, match="start rule"):
+    with pytest.raises(MapperError, match="no rules"):
         compile_mapper(parse("# nothing here\n"))
+
+
+@pytest.mark.parametrize(
+    ("text", "code"),
+    [
+        ("<s> ::= float[0..1 step 0] | x\n", "GG302"),  # a malformed range must not map as raw text
+        ("<s> ::= 'open | b\n", "GG102"),
+        ("@joint\n<s> ::= a | b\n", "GG402"),
+    ],
+)
+def test_a_grammar_with_an_error_is_never_compiled(text: str, code: str) -> None:
+    grammar = parse(text)
+    assert grammar.has_errors
+    with pytest.raises(MapperError, match=rf"error\[{code}\].*a grammar with errors is not compiled"):
+        compile_mapper(grammar)
 
 
 def test_node_equality_ignores_codon_values() -> None:

@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import hashlib
 from collections.abc import Mapping
+from dataclasses import asdict
+from importlib.metadata import PackageNotFoundError, version
 from importlib.resources import files
 from typing import Any
 
 from gaitgram.backends.catalogue import load_catalogue
+from gaitgram.backends.mujoco_horse.settings import WEIGHT_NAMES, HorseSettings
+from gaitgram.backends.mujoco_horse.task import TASK_REVISION
 from gaitgram.backends.registry import BackendSpec
 
 CATALOGUE = load_catalogue(files(__name__).joinpath("joints.toml"))
@@ -19,9 +24,30 @@ def load(settings: Mapping[str, Any] | None = None) -> Any:
     return load_evaluator(settings)
 
 
+def check_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
+    """Every setting spelt out, defaults included: a run directory records the values it used."""
+    return {k: v for k, v in asdict(HorseSettings.from_mapping(settings)).items() if v is not None}
+
+
+def _version() -> str:
+    """The fitness formula's revision, the simulator's release and a digest of the model files."""
+    digest = hashlib.sha256()
+    for name in ("horse.xml", "joints.toml"):
+        digest.update(files(__name__).joinpath(name).read_bytes())
+    try:
+        simulator = version("mujoco")
+    except PackageNotFoundError:  # pragma: no cover - mujoco is a core dependency
+        simulator = "unknown"
+    return f"fitness r{TASK_REVISION}, mujoco {simulator}, model {digest.hexdigest()[:12]}"
+
+
 BACKEND = BackendSpec(
     name="mujoco-horse",
     summary="A 500 kg horse with the paper's 12 joint curves, scored by the Froude-number fitness.",
     catalogue=CATALOGUE,
     load=load,
+    check_settings=check_settings,
+    weight_names=lambda settings: WEIGHT_NAMES,
+    runtime_settings=frozenset({"threads"}),
+    version=_version(),
 )

@@ -23,6 +23,10 @@ import numpy as np
 
 G = 9.81
 
+#: Bumped whenever a gait could score differently (targets, metrics, formula): runs record it, and
+#: a run scored under another revision is not resumed.
+TASK_REVISION = 1
+
 #: (sqrt(Fr'), duty factor) read from Alexander & Jayes (1983).
 DUTY_FACTOR_POINTS = ((0.0, 0.75), (0.45, 0.65), (0.7, 0.55), (1.0, 0.45), (1.6, 0.35), (2.5, 0.27))
 

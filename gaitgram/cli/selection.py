@@ -1,0 +1,108 @@
+"""Which gait ``evaluate`` and ``render`` show, and through which pipeline.
+
+Either a run directory's own pipeline and (by default) its best individual, or
+a grammar with a config file and flags: the same :class:`~gaitgram.pipeline.Pipeline`
+that ``evolve`` uses either way, so a gait is never re-mapped or re-scored with
+settings other than the ones it was evolved with.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import typer
+
+from gaitgram.backends.api import Evaluation
+from gaitgram.cli.common import load_usable, read_genome
+from gaitgram.cli.options import parse_defines
+from gaitgram.evolution.config import ConfigError, load_config
+from gaitgram.evolution.engine import CheckpointError
+from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_of_runs
+from gaitgram.pipeline import Pipeline, PipelineError
+
+
+@dataclass(frozen=True)
+class SelectedGait:
+    pipeline: Pipeline
+    genome: tuple[int, ...]
+    generation: int
+    #: What the run recorded for this genome (its best), to check that re-evaluating reproduces it.
+    recorded: Evaluation | None
+    describe: str
+
+
+class SelectionError(ValueError):
+    pass
+
+
+#: The command-line spelling of each override, for messages.
+_FLAGS = {
+    "backend": "--backend",
+    "codons": "--codons",
+    "max_wraps": "--max-wraps",
+    "max_depth": "--max-depth",
+    "backend_settings": "--set",
+}
+
+
+def select_gait(
+    *,
+    run: Path | None,
+    grammar: Path | None,
+    genome: str | None,
+    genome_file: Path | None,
+    generation: int | None,
+    config: Path | None,
+    overrides: dict[str, Any],
+    defines: list[str] | None,
+) -> SelectedGait:
+    """From ``--run DIR`` (nothing else that changes meaning allowed) or a grammar and options."""
+    try:
+        if run is not None:
+            return _from_run(run, grammar, genome, genome_file, generation, config, overrides, defines)
+        if grammar is None:
+            raise typer.BadParameter("give a grammar and a genome, or --run DIR", param_hint="GRAMMAR")
+        codons = read_genome(genome, genome_file)
+        run_config = load_config(config, overrides)
+        pipeline = Pipeline.build(load_usable(grammar, parse_defines(defines)), run_config)
+        at = run_config.generations if generation is None else generation
+        return SelectedGait(pipeline, codons, at, None, f"{grammar}, generation {at}")
+    except (ConfigError, PipelineError, RunDirectoryError, CheckpointError) as error:
+        raise SelectionError(str(error)) from None
+
+
+def _from_run(
+    path: Path,
+    grammar: Path | None,
+    genome: str | None,
+    genome_file: Path | None,
+    generation: int | None,
+    config: Path | None,
+    overrides: dict[str, Any],
+    defines: list[str] | None,
+) -> SelectedGait:
+    given = [_FLAGS.get(name, name) for name, value in overrides.items() if value is not None]
+    if grammar is not None:
+        given.insert(0, "GRAMMAR")
+    if config is not None:
+        given.append("--config")
+    if defines:
+        given.append("--define")
+    if given:
+        raise SelectionError(
+            f"--run {path} uses the run's own grammar, configuration and backend settings; drop "
+            f"{', '.join(given)} (or evaluate the grammar on its own, without --run)"
+        )
+    directory = RunDirectory.open(path)
+    run, last, best = best_of_runs(directory)
+    if genome is None and genome_file is None:
+        at = last if generation is None else generation
+        recorded = best.evaluation if at == last else None
+        return SelectedGait(
+            directory.pipeline, best.genome, at, recorded, f"{path} run {run}, best, generation {at}"
+        )
+    codons = read_genome(genome, genome_file)
+    at = directory.config.generations if generation is None else generation
+    return SelectedGait(directory.pipeline, codons, at, None, f"{path}, generation {at}")

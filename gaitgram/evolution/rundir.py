@@ -1,0 +1,297 @@
+"""Run directories: everything needed to rebuild a run's pipeline exactly, and proof it is unchanged.
+
+Layout::
+
+    manifest.json   what the run is: digests of grammar.gg and config.toml, the --define values,
+                    the backend's name and version, the engine revision, gaitgram's version,
+                    and the run's fingerprint (a digest of all of that)
+    grammar.gg      the grammar text the runs use (a copy: editing the original changes nothing)
+    config.toml     the resolved configuration: defaults, file and flags, the backend named and
+                    its settings spelt out
+    run-000/ ...    one directory per run: checkpoint.json, stats.csv, stats.jsonl, best.json
+    summary.json    written when every run has finished
+
+Opening a run directory verifies it before anything runs: an edited
+``grammar.gg`` or ``config.toml``, a backend whose version differs from the one
+that scored the run, or another engine revision is refused, naming what
+differs. A directory is created only after the pipeline has been built, and
+removed again if writing it fails, so a bad configuration never leaves a
+half-made run behind.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import shutil
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from gaitgram import __version__, jsonio
+from gaitgram.analysis import check
+from gaitgram.backends.registry import backend_version
+from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, differences, read_toml
+from gaitgram.evolution.engine import ENGINE_REVISION
+from gaitgram.fileio import write_atomically
+from gaitgram.language import parse
+from gaitgram.language.source import SourceText, decode_source
+from gaitgram.pipeline import Individual, Pipeline, PipelineError
+
+MANIFEST = "manifest.json"
+GRAMMAR = "grammar.gg"
+CONFIG = "config.toml"
+MANIFEST_FORMAT = 1
+
+
+class RunDirectoryError(ValueError):
+    """A run directory that cannot be created, opened or resumed; says what differs and what to do."""
+
+
+def _sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def identity(pipeline: Pipeline, defines: Mapping[str, int]) -> dict[str, Any]:
+    """What a run's results depend on: equal identities make equal runs (settings that change only
+    speed, such as threads, are left out)."""
+    config = pipeline.config
+    settings = {k: v for k, v in config.backend_settings.items() if k not in pipeline.spec.runtime_settings}
+    meaning = config.as_dict()
+    meaning["backend_settings"] = settings
+    meaning["weight_schedule"] = [
+        {"start": s.start, "weights": dict(s.weights)} for s in config.weight_schedule
+    ]
+    return {
+        "grammar_sha256": _sha256(pipeline.grammar.source.text.encode("utf-8")),
+        "defines": dict(sorted(defines.items())),
+        "config": meaning,
+        "backend": pipeline.backend,
+        "backend_version": backend_version(pipeline.backend),
+        "engine_revision": ENGINE_REVISION,
+    }
+
+
+def fingerprint(pipeline: Pipeline, defines: Mapping[str, int]) -> str:
+    text = json.dumps(identity(pipeline, defines), sort_keys=True, separators=(",", ":"), allow_nan=False)
+    return _sha256(text.encode("utf-8"))
+
+
+def build_pipeline(source: SourceText, defines: Mapping[str, int], config: RunConfig) -> Pipeline:
+    return Pipeline.build(check(parse(source, defines=defines)), config)
+
+
+@dataclass(frozen=True)
+class RunDirectory:
+    path: Path
+    pipeline: Pipeline
+    defines: Mapping[str, int]
+    fingerprint: str
+    #: Where the grammar was read from when the run started (for people; the copy is what runs).
+    origin: str
+
+    @property
+    def config(self) -> RunConfig:
+        return self.pipeline.config
+
+    def run_dir(self, run: int) -> Path:
+        return self.path / f"run-{run:03d}"
+
+    @property
+    def checkpoints(self) -> list[Path]:
+        return [self.run_dir(r) / "checkpoint.json" for r in range(self.config.runs)]
+
+    # ---- creating --------------------------------------------------------------------
+
+    @classmethod
+    def create(
+        cls, path: Path, pipeline: Pipeline, *, defines: Mapping[str, int], origin: str
+    ) -> RunDirectory:
+        """Make a new run directory; refuses one that exists and holds anything."""
+        if path.exists() and (not path.is_dir() or any(path.iterdir())):
+            what = "is not a directory" if not path.is_dir() else "already exists and is not empty"
+            raise RunDirectoryError(
+                f"{path} {what}; pass --resume {path} to continue a run there, or choose another --out"
+            )
+        made = not path.exists()
+        grammar_text = pipeline.grammar.source.text
+        config_text = pipeline.config.to_toml()
+        run_fingerprint = fingerprint(pipeline, defines)
+        manifest = {
+            "format": MANIFEST_FORMAT,
+            "fingerprint": run_fingerprint,
+            "gaitgram_version": __version__,
+            "origin": origin,
+            "grammar_sha256": _sha256(grammar_text.encode("utf-8")),
+            "config_sha256": _sha256(config_text.encode("utf-8")),
+            "defines": dict(sorted(defines.items())),
+            "backend": pipeline.backend,
+            "backend_version": backend_version(pipeline.backend),
+            "engine_revision": ENGINE_REVISION,
+        }
+        try:
+            path.mkdir(parents=True, exist_ok=True)
+            write_atomically(path / GRAMMAR, grammar_text)
+            write_atomically(path / CONFIG, config_text)
+            write_atomically(path / MANIFEST, jsonio.dumps(manifest, indent=1) + "\n")
+        except OSError as error:
+            if made:
+                shutil.rmtree(path, ignore_errors=True)
+            else:
+                for name in (GRAMMAR, CONFIG, MANIFEST):
+                    (path / name).unlink(missing_ok=True)
+            raise RunDirectoryError(f"cannot write {path}: {error.strerror or error}") from None
+        return cls(path, pipeline, dict(defines), run_fingerprint, origin)
+
+    # ---- opening ---------------------------------------------------------------------
+
+    @classmethod
+    def open(cls, path: Path) -> RunDirectory:
+        """Read and verify a run directory, and rebuild its pipeline from what it saved."""
+        manifest = _read_manifest(path)
+        grammar_bytes = _read_bytes(path / GRAMMAR)
+        config_bytes = _read_bytes(path / CONFIG)
+        if _sha256(grammar_bytes) != manifest["grammar_sha256"]:
+            raise RunDirectoryError(
+                f"{path / GRAMMAR} was edited after the run started; a run keeps the grammar it started "
+                f"with: restore the file (its original is {manifest['origin']}), or start a new run"
+            )
+        if _sha256(config_bytes) != manifest["config_sha256"]:
+            raise RunDirectoryError(
+                f"{path / CONFIG} was edited after the run started; restore it, or start a new run with "
+                "the new configuration"
+            )
+        defines = manifest["defines"]
+        try:
+            config = config_from_mapping(read_toml(path / CONFIG), str(path / CONFIG))
+            source = decode_source(grammar_bytes, str(path / GRAMMAR))
+            pipeline = build_pipeline(source, defines, config)
+        except (ConfigError, PipelineError) as error:
+            raise RunDirectoryError(f"{path}: the saved run no longer builds: {error}") from None
+        except ValueError as error:  # a SourceError: the saved grammar is not text
+            raise RunDirectoryError(f"{path / GRAMMAR}: {error}") from None
+        installed = backend_version(pipeline.backend)
+        if installed != manifest["backend_version"]:
+            raise RunDirectoryError(
+                f"{path}: backend {pipeline.backend!r} has changed since the run started "
+                f"(run: {manifest['backend_version']}; installed: {installed}), so the same gait could "
+                "score differently; finish it with the gaitgram it started with, or start a new run"
+            )
+        if manifest["engine_revision"] != ENGINE_REVISION:
+            raise RunDirectoryError(
+                f"{path}: the run was made by engine revision {manifest['engine_revision']}, this gaitgram "
+                f"runs revision {ENGINE_REVISION} (gaitgram {__version__}); results would differ: finish "
+                f"it with gaitgram {manifest['gaitgram_version']}, or start a new run"
+            )
+        computed = fingerprint(pipeline, defines)
+        if computed != manifest["fingerprint"]:
+            raise RunDirectoryError(
+                f"{path / MANIFEST}: the saved run does not match its fingerprint (the manifest was edited "
+                "or made by another gaitgram); start a new run"
+            )
+        return cls(path, pipeline, dict(defines), computed, manifest["origin"])
+
+    # ---- resuming ----------------------------------------------------------------------
+
+    def differences(
+        self,
+        *,
+        grammar: SourceText | None = None,
+        defines: Mapping[str, int] | None = None,
+        config: RunConfig | None = None,
+    ) -> list[str]:
+        """What the given inputs would change about this run (empty: they agree with it)."""
+        found = []
+        if grammar is not None and grammar.text != self.pipeline.grammar.source.text:
+            found.append(f"the grammar {grammar.name} differs from the run's copy {self.path / GRAMMAR}")
+        if defines is not None and dict(defines) != dict(self.defines):
+            for name in sorted(set(defines) | set(self.defines)):
+                saved, given = self.defines.get(name), defines.get(name)
+                if saved != given:
+                    shown = "missing" if given is None else f"--define {name}={given}"
+                    was = "not defined" if saved is None else f"{name}={saved}"
+                    found.append(f"{shown}, but the run has {was}")
+        if config is not None:
+            try:
+                resolved = Pipeline.build(self.pipeline.checked, config).config
+            except PipelineError as error:
+                return [*found, str(error)]
+            found += differences(self.config, resolved, ignore=self.pipeline.spec.runtime_settings)
+        return found
+
+
+def _read_bytes(path: Path) -> bytes:
+    try:
+        return path.read_bytes()
+    except FileNotFoundError:
+        raise RunDirectoryError(
+            f"{path.parent} is not a complete run directory: {path.name} is missing"
+        ) from None
+    except OSError as error:
+        raise RunDirectoryError(f"cannot read {path}: {error.strerror or error}") from None
+
+
+_MANIFEST_FIELDS: dict[str, type | tuple[type, ...]] = {
+    "format": int,
+    "fingerprint": str,
+    "gaitgram_version": str,
+    "origin": str,
+    "grammar_sha256": str,
+    "config_sha256": str,
+    "defines": dict,
+    "backend": str,
+    "backend_version": str,
+    "engine_revision": int,
+}
+
+
+def _read_manifest(path: Path) -> dict[str, Any]:
+    if not path.is_dir():
+        raise RunDirectoryError(f"{path} is not a run directory (no such directory)")
+    if not (path / MANIFEST).exists():
+        if (path / CONFIG).exists() and (path / GRAMMAR).exists():
+            raise RunDirectoryError(
+                f"{path} was made by an older gaitgram that kept no manifest, so nothing can prove the "
+                "run is unchanged; start a new run"
+            )
+        raise RunDirectoryError(f"{path} is not a `gaitgram evolve` run directory (no {MANIFEST})")
+    try:
+        manifest = json.loads(_read_bytes(path / MANIFEST).decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise RunDirectoryError(f"{path / MANIFEST}: not a valid manifest: {error}") from None
+    if not isinstance(manifest, dict):
+        raise RunDirectoryError(f"{path / MANIFEST}: not a valid manifest")
+    for key, kind in _MANIFEST_FIELDS.items():
+        if not isinstance(manifest.get(key), kind) or isinstance(manifest.get(key), bool):
+            raise RunDirectoryError(f"{path / MANIFEST}: not a valid manifest ({key} missing or mistyped)")
+    if manifest["format"] != MANIFEST_FORMAT:
+        raise RunDirectoryError(
+            f"{path / MANIFEST}: manifest format {manifest['format']} is not {MANIFEST_FORMAT}; "
+            "made by another gaitgram"
+        )
+    defines = manifest["defines"]
+    if not all(
+        isinstance(k, str) and isinstance(v, int) and not isinstance(v, bool) for k, v in defines.items()
+    ):
+        raise RunDirectoryError(f"{path / MANIFEST}: not a valid manifest (defines)")
+    return manifest
+
+
+def best_of_runs(directory: RunDirectory) -> tuple[int, int, Individual]:
+    """The best individual of every run's last checkpoint: (run, generation, individual).
+
+    Read from the checkpoints (digest-checked), not from ``best.json``, which is a report.
+    """
+    from gaitgram.evolution.engine import load_checkpoint
+
+    found = []
+    for run, path in enumerate(directory.checkpoints):
+        if not path.exists():
+            continue
+        state = load_checkpoint(path, directory.pipeline, fingerprint=directory.fingerprint, run=run)
+        found.append((state.best.fitness, run, state.generation, state.best))
+    if not found:
+        raise RunDirectoryError(f"{directory.path} has no checkpoint yet: no run has finished a generation")
+    _, run, generation, best = min(found, key=lambda item: (item[0], item[1]))
+    return run, generation, best

@@ -1,0 +1,282 @@
+"""From genome to score: the one path that every command takes.
+
+A :class:`Pipeline` is built from a checked grammar and a resolved
+:class:`~gaitgram.evolution.config.RunConfig`, and does, in order:
+
+    genomes --map--> phenotypes --motion--> joint curves --evaluate--> evaluations
+
+with the run's codon mode, wraps and depth limit, its sample count, the joint
+freedom schedule of the grammar's ``@joint free=`` annotations, the backend and
+settings of the config and the weights of its schedule. ``evolve``,
+``evaluate``, ``render`` and studies all build one, so they cannot disagree
+about any of these; a run directory records everything needed to build the
+same pipeline again (:mod:`gaitgram.evolution.rundir`).
+
+Building refuses, with a message that names the key and the fix, anything that
+would make the numbers mean something other than what they say: a grammar with
+errors, backend settings the backend does not know, a weight that no component
+has, depths the grammar cannot fit in, codons too small to reach every choice.
+Evaluating checks what comes back: a gait is only ``ok`` if its fitness and
+every component are finite.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import Any
+
+from gaitgram.analysis import CheckResult
+from gaitgram.analysis.facts import GrammarFacts
+from gaitgram.backends.api import Evaluation, Evaluator, GaitStatus, SettingsError
+from gaitgram.backends.registry import (
+    BackendLoadError,
+    BackendNotFound,
+    BackendSpec,
+    backend_names,
+    get_backend,
+)
+from gaitgram.evolution.config import RunConfig
+from gaitgram.ge.mapper import Mapped, Mapper, MapperError, compile_mapper
+from gaitgram.language.model import Grammar
+from gaitgram.motion.gait import MotionBatch, motion_batch
+
+#: The backend of a grammar that names none and a config that names none.
+DEFAULT_BACKEND = "mujoco-horse"
+
+Genome = tuple[int, ...]
+
+
+class PipelineError(ValueError):
+    """A grammar, config or backend that cannot make a trustworthy pipeline; says why and how to fix."""
+
+
+@dataclass(frozen=True)
+class Individual:
+    """A genome with what the pipeline made of it."""
+
+    genome: Genome
+    used_codons: int
+    phenotype: str | None
+    joints: Mapping[str, str]
+    evaluation: Evaluation
+
+    @property
+    def fitness(self) -> float:
+        return self.evaluation.fitness
+
+
+@dataclass(frozen=True, eq=False)
+class Pipeline:
+    """Build with :meth:`build`; immutable, and cheap to keep for a whole run."""
+
+    checked: CheckResult
+    #: Resolved: ``backend`` is set and ``backend_settings`` are the backend's normalised settings.
+    config: RunConfig
+    spec: BackendSpec
+    mapper: Mapper
+    #: The curves of a motion batch, in the backend's order (its catalogue's, else the grammar's).
+    joints: tuple[str, ...]
+
+    @classmethod
+    def build(cls, checked: CheckResult, config: RunConfig) -> Pipeline:
+        """Check that ``checked`` and ``config`` make sense together, and resolve the backend."""
+        grammar = checked.grammar
+        if checked.errors:
+            raise PipelineError(_first_error(checked))
+        name = config.backend or grammar.backend or DEFAULT_BACKEND
+        spec = _spec(name)
+        try:
+            settings = spec.checked_settings(config.backend_settings)
+        except SettingsError as error:
+            raise PipelineError(f"[backend_settings] {error.key}: {error.message}") from None
+        config = replace(config, backend=name, backend_settings=settings)
+        _check_weights(config, spec)
+        _check_joints(grammar, spec)
+        _check_depths(checked.facts, config)
+        try:
+            mapper = compile_mapper(
+                grammar, codons=config.codons, max_wraps=config.max_wraps, max_depth=config.max_depth
+            )
+        except MapperError as error:
+            raise PipelineError(str(error)) from None
+        widest = max(mapper.n_choices, default=0)
+        if config.codon_size < widest:
+            raise PipelineError(
+                f"codon_size: {config.codon_size} is smaller than the {widest} choices of the grammar's "
+                f"widest rule, so some of its choices could never be picked; make codon_size at least "
+                f"{widest}"
+            )
+        joints = (
+            spec.catalogue.names if spec.catalogue is not None else tuple(j.joint for j in grammar.joints)
+        )
+        return cls(checked, config, spec, mapper, joints)
+
+    @property
+    def grammar(self) -> Grammar:
+        return self.checked.grammar
+
+    @property
+    def facts(self) -> GrammarFacts:
+        return self.checked.facts
+
+    @property
+    def backend(self) -> str:
+        assert self.config.backend is not None  # resolved by build
+        return self.config.backend
+
+    # ---- the stages ------------------------------------------------------------------
+
+    def frozen_at(self, generation: int) -> frozenset[str]:
+        """Joints held at neutral in ``generation`` (the paper's Table 3)."""
+        return frozenset(j.joint for j in self.grammar.joints if not j.is_free(generation))
+
+    def weights_at(self, generation: int) -> Mapping[str, float] | None:
+        """The fitness weights in force in ``generation``; None: the backend's own."""
+        return self.config.weights_at(generation) or None
+
+    def map(self, genomes: Sequence[Sequence[int]]) -> list[Mapped]:
+        return self.mapper.map_many(genomes)
+
+    def motion(self, mapped: Sequence[Mapped], generation: int) -> MotionBatch:
+        return motion_batch(
+            [m.joints if m.valid else None for m in mapped],
+            self.joints,
+            units=self.grammar.units,
+            n_samples=self.config.samples,
+            frozen=self.frozen_at(generation),
+        )
+
+    def evaluate(
+        self, genomes: Sequence[Sequence[int]], evaluator: Evaluator, generation: int
+    ) -> list[Individual]:
+        """Map, build motion, and score ``genomes`` as they would be scored in ``generation``."""
+        mapped = self.map(genomes)
+        evaluations = evaluator.evaluate(
+            self.motion(mapped, generation), generation=generation, weights=self.weights_at(generation)
+        )
+        if len(evaluations) != len(genomes):
+            raise PipelineError(
+                f"backend {self.backend!r} returned {len(evaluations)} evaluations for {len(genomes)} gaits"
+            )
+        return [
+            Individual(tuple(g), m.used_codons, m.phenotype, m.joints, honest(e))
+            for g, m, e in zip(genomes, mapped, evaluations, strict=True)
+        ]
+
+    def load_evaluator(self, runtime: Mapping[str, Any] | None = None) -> Evaluator:
+        """The backend, loaded with the run's settings; ``runtime`` may change only settings that
+        change speed, never a score (``threads``)."""
+        extra = dict(runtime or {})
+        wrong = sorted(set(extra) - self.spec.runtime_settings)
+        if wrong:
+            raise PipelineError(
+                f"backend {self.backend!r}: {', '.join(wrong)} would change the scores; "
+                "only these may differ from the run's settings: "
+                f"{', '.join(sorted(self.spec.runtime_settings)) or 'none'}"
+            )
+        if self.spec.load is None:
+            raise PipelineError(f"backend {self.backend!r} declares joints but cannot evaluate gaits")
+        try:
+            return self.spec.load({**self.config.backend_settings, **extra})
+        except SettingsError as error:
+            raise PipelineError(f"[backend_settings] {error.key}: {error.message}") from None
+        except (ValueError, TypeError, ImportError, LookupError) as error:
+            raise PipelineError(f"backend {self.backend!r}: {error}") from None
+
+
+def honest(evaluation: Evaluation) -> Evaluation:
+    """An evaluation that says ``ok`` only if everything it measured is a finite number."""
+    if not evaluation.status.viable:
+        return evaluation
+    bad = [name for name, value in evaluation.components.items() if not _finite(value)]
+    if not _finite(evaluation.fitness):
+        bad.insert(0, "fitness")
+    if not bad:
+        return evaluation
+    return Evaluation.unviable(GaitStatus.NON_FINITE, f"the backend measured a non-finite {', '.join(bad)}")
+
+
+def _finite(value: object) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _first_error(checked: CheckResult) -> str:
+    source = checked.grammar.source
+    errors = [d for d in checked.diagnostics if d.is_error]
+    first = errors[0]
+    where = source.location(first.span.start)
+    more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
+    return (
+        f"{source.name}:{where.line}:{where.column}: error[{first.code.code}] {first.message}{more}; "
+        f"a grammar with errors is never run: see `gaitgram check {source.name}`"
+    )
+
+
+def _spec(name: str) -> BackendSpec:
+    try:
+        return get_backend(name)
+    except BackendNotFound:
+        raise PipelineError(f"no backend named {name!r}; installed: {', '.join(backend_names())}") from None
+    except BackendLoadError as error:
+        raise PipelineError(str(error)) from None
+
+
+def _check_weights(config: RunConfig, spec: BackendSpec) -> None:
+    if not config.weight_schedule:
+        return
+    if spec.weight_names is None:
+        raise PipelineError(
+            f"weight_schedule: backend {spec.name!r} takes no fitness weights, so the schedule would "
+            "change nothing; remove it"
+        )
+    known = spec.weight_names(config.backend_settings)
+    for i, stage in enumerate(config.weight_schedule):
+        for name in stage.weights:
+            if name not in known:
+                close = difflib.get_close_matches(name, sorted(known), n=1)
+                hint = f"did you mean {close[0]}?" if close else f"known: {', '.join(sorted(known))}"
+                raise PipelineError(
+                    f"weight_schedule[{i}].weights.{name}: backend {spec.name!r} has no fitness component "
+                    f"{name!r}; {hint}"
+                )
+
+
+def _check_joints(grammar: Grammar, spec: BackendSpec) -> None:
+    if not grammar.joints:
+        raise PipelineError(
+            "the grammar declares no @joint rule, so no curve would move; mark each joint curve's rule "
+            "with @joint NAME (docs/language.md)"
+        )
+    if spec.catalogue is None:
+        return
+    missing = [j.joint for j in grammar.joints if spec.catalogue.get(j.joint) is None]
+    if missing:
+        raise PipelineError(
+            f"backend {spec.name!r} has no joint {', '.join(map(repr, missing))}; the grammar was written "
+            f"for {grammar.backend or 'another backend'!s}; its joints: {', '.join(spec.catalogue.names)}"
+        )
+
+
+def _check_depths(facts: GrammarFacts, config: RunConfig) -> None:
+    start = facts.cfg.start
+    shortest = facts.min_depth[start] if start is not None else None
+    if shortest is None:  # the linter has already refused it (GG205); defensive
+        raise PipelineError("the start rule cannot derive anything")
+    if config.init_max_depth < shortest:
+        raise PipelineError(
+            f"init_max_depth: {config.init_max_depth} is below the {shortest} levels of the grammar's "
+            f"shortest derivation, so no initial tree fits; make it at least {shortest}"
+        )
+    if config.max_depth is not None and config.max_depth < shortest:
+        raise PipelineError(
+            f"max_depth: {config.max_depth} is below the {shortest} levels of the grammar's shortest "
+            f"derivation, so every genome would be invalid; make it at least {shortest}"
+        )
+    if config.max_depth is not None and config.max_depth < config.init_max_depth:
+        raise PipelineError(
+            f"max_depth: {config.max_depth} is below init_max_depth {config.init_max_depth}, so some "
+            "initial trees would be invalid at once; raise max_depth or lower init_max_depth"
+        )

@@ -1,0 +1,384 @@
+"""Runs that can never go silently wrong: each test is a wrong answer that once exited 0.
+
+Every test here is written as a user meets the problem (the command line on
+files) and fails on the gaitgram before the pipeline and run manifests: a
+resume that silently changed meaning, a misspelt weight that scored nothing,
+a configuration that could never work, a checkpoint edited by hand, a score of
+NaN called ``ok``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from gaitgram.analysis import check
+from gaitgram.backends.curve_match import CurveMatch
+from gaitgram.cli import app
+from gaitgram.evolution.config import RunConfig
+from gaitgram.evolution.engine import initial_state, step
+from gaitgram.language import parse
+from gaitgram.pipeline import Pipeline
+
+runner = CliRunner()
+
+GRAMMAR = """\
+@start <gait>
+<gait> ::= <hip>;<elbow>
+@joint hip_hind
+<hip> ::= <amp>*sin(<k>*2*PI*t+<phase>) | <amp>*cos(<k>*2*PI*t+<phase>)
+@joint elbow_fore
+<elbow> ::= <amp>*sin(<k>*2*PI*t+<phase>)+<amp>
+<amp> ::= int[0..20]
+<k> ::= int[1..3]
+<phase> ::= float[0..3 step 0.5]
+"""
+TARGETS = {"hip_hind": "7*sin(1*2*PI*t+1.5)", "elbow_fore": "3*sin(2*2*PI*t+0.5)+4"}
+
+
+def strict_json(text: str) -> object:
+    """JSON as every other language reads it: NaN and Infinity are not JSON."""
+
+    def refuse(token: str) -> None:
+        raise ValueError(f"{token} is not valid JSON")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+def write_setup(tmp_path: Path, grammar: str = GRAMMAR, **keys: object) -> tuple[Path, Path]:
+    lines = [
+        "generations = 3",
+        "population = 12",
+        "elite = 2",
+        "init_max_depth = 6",
+        'backend = "curve-match"',
+    ]
+    lines += [f"{k} = {json.dumps(v)}" for k, v in keys.items()]
+    lines += ["", "[backend_settings.targets]", *(f'{k} = "{v}"' for k, v in TARGETS.items())]
+    config = tmp_path / "run.toml"
+    config.write_text("\n".join(lines) + "\n")
+    path = tmp_path / "g.gg"
+    path.write_text(grammar)
+    return path, config
+
+
+def evolve(*args: str) -> object:
+    return runner.invoke(app, ["evolve", *args, "-q"])
+
+
+@pytest.fixture
+def finished_run(tmp_path: Path) -> Path:
+    grammar, config = write_setup(tmp_path)
+    result = evolve(str(grammar), "-c", str(config), "-o", str(tmp_path / "run"))
+    assert result.exit_code == 0, result.stderr
+    return tmp_path / "run"
+
+
+# ---- a resume never changes what the run means ------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("flags", "named"),
+    [
+        (["--seed", "3"], "seed: 0 -> 3"),
+        (["--population", "20"], "population: 12 -> 20"),
+        (["--generations", "9"], "generations: 3 -> 9"),
+        (["--backend", "mujoco-horse"], "backend"),
+    ],
+)
+def test_resume_refuses_a_flag_that_differs(finished_run: Path, flags: list[str], named: str) -> None:
+    before = (finished_run / "run-000" / "checkpoint.json").read_bytes()
+    result = evolve("--resume", str(finished_run), *flags)
+    assert result.exit_code == 2
+    assert "cannot resume" in result.stderr
+    assert named in result.stderr
+    assert (finished_run / "run-000" / "checkpoint.json").read_bytes() == before
+
+
+def test_resume_accepts_flags_that_agree_and_threads(finished_run: Path) -> None:
+    result = evolve("--resume", str(finished_run), "--seed", "0", "--generations", "3", "--threads", "1")
+    assert result.exit_code == 0, result.stderr
+
+
+def test_resume_refuses_an_edited_grammar_copy(finished_run: Path) -> None:
+    copy = finished_run / "grammar.gg"
+    copy.write_text(copy.read_text().replace("int[0..20]", "int[0..40]"))
+    result = evolve("--resume", str(finished_run))
+    assert result.exit_code == 2
+    assert "grammar.gg was edited after the run started" in result.stderr
+
+
+def test_resume_refuses_an_edited_config(finished_run: Path) -> None:
+    config = finished_run / "config.toml"
+    config.write_text(config.read_text().replace("mutation = 0.02", "mutation = 0.5"))
+    result = evolve("--resume", str(finished_run))
+    assert result.exit_code == 2
+    assert "config.toml was edited" in result.stderr
+
+
+def test_resume_refuses_a_different_grammar_argument(finished_run: Path, tmp_path: Path) -> None:
+    other = tmp_path / "other.gg"
+    other.write_text(GRAMMAR.replace("int[1..3]", "int[1..4]"))
+    result = evolve(str(other), "--resume", str(finished_run))
+    assert result.exit_code == 2
+    assert "differs from the run's copy" in result.stderr
+    same = evolve(str(tmp_path / "g.gg"), "--resume", str(finished_run))
+    assert same.exit_code == 0, same.stderr
+
+
+def test_resume_refuses_a_config_file_that_differs(finished_run: Path, tmp_path: Path) -> None:
+    _, config = write_setup(tmp_path, tournament=2)
+    result = evolve("--resume", str(finished_run), "-c", str(config))
+    assert result.exit_code == 2
+    assert "tournament: 3 -> 2" in result.stderr
+
+
+DEFINED = GRAMMAR.replace("<k> ::= int[1..3]", "<k> ::= GE_RANGE:harmonics")
+
+
+def test_resume_keeps_the_runs_defines_and_refuses_others(tmp_path: Path) -> None:
+    grammar, config = write_setup(tmp_path, DEFINED)
+    run = tmp_path / "run"
+    first = evolve(str(grammar), "-c", str(config), "-o", str(run), "-D", "harmonics=3")
+    assert first.exit_code == 0, first.stderr
+    assert evolve("--resume", str(run)).exit_code == 0  # the saved value, not a missing one
+    different = evolve("--resume", str(run), "-D", "harmonics=5")
+    assert different.exit_code == 2
+    assert "--define harmonics=5, but the run has harmonics=3" in different.stderr
+    extra = evolve("--resume", str(run), "-D", "harmonics=3", "-D", "other=1")
+    assert extra.exit_code == 2
+    assert "--define other=1, but the run has not defined" in extra.stderr
+
+
+def test_an_old_run_directory_without_a_manifest_is_refused(finished_run: Path) -> None:
+    (finished_run / "manifest.json").unlink()
+    result = evolve("--resume", str(finished_run))
+    assert result.exit_code == 2
+    assert "kept no manifest" in result.stderr
+
+
+# ---- configuration checked before anything runs --------------------------------------------
+
+
+BAD_CONFIGS = [
+    # A misspelt weight once scored every gait as if the component did not exist.
+    ("[[weight_schedule]]\nstart = 0\nweights = { rms_hip_hnid = 1.0 }\n", "did you mean rms_hip_hind?"),
+    ("tail = inf\n", "tail: must be a finite number"),
+    ("crossover = nan\n", "crossover"),
+    ("tournament = 40\n", "tournament: a tournament of 40 is larger than the population of 12"),
+    ("init_max_depth = 2\n", "init_max_depth: 2 is below the 3 levels"),
+    ("max_depth = 2\n", "max_depth: 2 is below the 3 levels"),
+    ("codon_size = 10\n", "codon_size: 10 is smaller than the 21 choices"),
+    ("generatoins = 5\n", "did you mean generations?"),
+    ("[[weight_schedule]]\nstart = 90\nweights = { rms_hip_hind = 1.0 }\n", "outside the run's generations"),
+]
+
+
+@pytest.mark.parametrize(("extra", "message"), BAD_CONFIGS)
+def test_a_bad_config_is_refused_before_a_run_directory_exists(
+    tmp_path: Path, extra: str, message: str
+) -> None:
+    grammar, config = write_setup(tmp_path)
+    head, _, tables = config.read_text().partition("\n\n")
+    if extra.startswith("["):
+        config.write_text(f"{head}\n\n{tables}\n{extra}")
+    else:  # the key replaces the setup's own
+        kept = [line for line in head.splitlines() if line.split(" = ")[0] != extra.split(" = ")[0]]
+        config.write_text("\n".join(kept) + "\n" + extra + "\n" + tables)
+    result = evolve(str(grammar), "-c", str(config), "-o", str(tmp_path / "run"))
+    assert result.exit_code == 2, result.stdout
+    assert message in result.stderr
+    assert not (tmp_path / "run").exists()
+    assert "Traceback" not in result.stderr
+
+
+@pytest.mark.parametrize(
+    ("settings", "message"),
+    [
+        ("[backend_settings]\nfrode = 0.4\n", "frode: unknown mujoco-horse setting; did you mean froude?"),
+        ("[backend_settings]\nfroude = 0.06\ncycles = 100\n", "at most 60 s are allowed"),
+        ("[backend_settings]\nfroude = inf\n", "froude"),
+        ("[backend_settings.weights]\nvelocty = 1.0\n", "weights.velocty: no fitness component"),
+        ("[[weight_schedule]]\nstart = 0\nweights = { strides = 2.0 }\n", "did you mean stride?"),
+    ],
+)
+def test_bad_mujoco_settings_are_refused_with_the_key_named(
+    tmp_path: Path, settings: str, message: str
+) -> None:
+    grammar = Path(__file__).resolve().parents[2] / "grammars" / "sine-walk.gg"
+    config = tmp_path / "run.toml"
+    config.write_text("generations = 1\npopulation = 4\nelite = 1\n\n" + settings)
+    result = evolve(str(grammar), "-c", str(config), "-o", str(tmp_path / "run"))
+    assert result.exit_code == 2
+    assert message in result.stderr
+    assert not (tmp_path / "run").exists()
+
+
+def test_a_curve_match_target_that_divides_by_zero_is_refused(tmp_path: Path) -> None:
+    grammar, config = write_setup(tmp_path)
+    config.write_text(config.read_text().replace(TARGETS["hip_hind"], "1/(t-t)"))
+    result = evolve(str(grammar), "-c", str(config), "-o", str(tmp_path / "run"))
+    assert result.exit_code == 2
+    assert "targets.hip_hind" in result.stderr
+    assert not (tmp_path / "run").exists()
+
+
+def test_a_grammar_with_errors_is_never_evolved(tmp_path: Path) -> None:
+    grammar, config = write_setup(tmp_path, GRAMMAR.replace("float[0..3 step 0.5]", "float[0..3 step 0]"))
+    result = evolve(str(grammar), "-c", str(config), "-o", str(tmp_path / "run"))
+    assert result.exit_code == 1
+    assert "GG302" in result.stderr
+    assert not (tmp_path / "run").exists()
+
+
+# ---- every command scores through the run's own pipeline --------------------------------
+
+
+def test_evaluate_run_reproduces_the_recorded_best_with_the_runs_codons(tmp_path: Path) -> None:
+    grammar, config = write_setup(tmp_path, codons="eager", max_wraps=0)
+    run = tmp_path / "run"
+    assert evolve(str(grammar), "-c", str(config), "-o", str(run)).exit_code == 0
+    best = json.loads((run / "run-000" / "best.json").read_text())
+    result = runner.invoke(app, ["evaluate", "--run", str(run), "--json"])
+    assert result.exit_code in (0, 1), result.stderr
+    record = strict_json(result.stdout)
+    assert record["phenotype"] == best["phenotype"]  # eager codons, no wraps: the run's mapping
+    assert record["fitness"] == best["fitness"] == record["recorded_fitness"]
+    # The command line's own defaults (lazy codons, 3 wraps) map the same genome to another gait:
+    # that is what scoring outside the run's pipeline used to show.
+    lazy = runner.invoke(app, ["map", str(grammar), "--genome", ",".join(map(str, best["genome"]))])
+    assert lazy.stdout.splitlines()[0] != best["phenotype"]
+    refused = runner.invoke(app, ["evaluate", "--run", str(run), "--codons", "lazy"])
+    assert refused.exit_code == 2
+    assert "drop --codons" in refused.stderr
+
+
+def test_evaluate_applies_the_configs_weight_schedule(tmp_path: Path) -> None:
+    grammar, config = write_setup(tmp_path)
+    config.write_text(
+        config.read_text()
+        + "\n[[weight_schedule]]\nstart = 0\nweights = { rms_hip_hind = 1.0, rms_elbow_fore = 0.0 }\n"
+    )
+    genome = "3,7,0,2,5,1,4,2,6,0,9,1,2,3"
+    result = runner.invoke(app, ["evaluate", str(grammar), "-c", str(config), "--genome", genome, "--json"])
+    assert result.exit_code == 0, result.stderr
+    record = strict_json(result.stdout)
+    assert record["components"]["rms_elbow_fore"] > 0
+    assert record["fitness"] == pytest.approx(record["components"]["rms_hip_hind"])
+
+
+# ---- scores that are what they say --------------------------------------------------------
+
+
+def test_curves_that_overflow_are_never_ok_and_json_stays_json(tmp_path: Path) -> None:
+    huge = GRAMMAR.replace("<amp> ::= int[0..20]", "<amp> ::= 1e200 | 2e300")
+    grammar, config = write_setup(tmp_path, huge)
+    run = tmp_path / "run"
+    result = evolve(str(grammar), "-c", str(config), "-o", str(run))
+    assert result.exit_code == 0, result.stderr
+    for line in (run / "run-000" / "stats.jsonl").read_text().splitlines():
+        record = strict_json(line)
+        assert record["invalid"] == 12  # every gait overflows: none may be called ok
+        assert record["average"] is None
+    best = strict_json((run / "run-000" / "best.json").read_text())
+    assert best["status"] == "non-finite"
+    assert math.isfinite(best["fitness"])
+
+
+def test_radians_that_overflow_as_degrees_are_not_finite(tmp_path: Path) -> None:
+    from gaitgram.motion.gait import MotionProblem, motion_batch
+
+    batch = motion_batch([{"hip_hind": "1e307*sin(2*PI*t)"}], ["hip_hind"], units="rad")
+    assert batch.problems == (MotionProblem.NON_FINITE,)
+
+
+# ---- checkpoints are untrusted input --------------------------------------------------------
+
+
+def _tamper(run: Path, change) -> None:
+    path = run / "run-000" / "checkpoint.json"
+    data = json.loads(path.read_text())
+    change(data["checkpoint"])
+    path.write_text(json.dumps(data))
+
+
+def _set(key: str, value: object):
+    def change(content: dict) -> None:
+        content[key] = value
+
+    return change
+
+
+@pytest.mark.parametrize(
+    "change",
+    [
+        lambda c: c["population"][0]["genome"].__setitem__(0, 7),  # a foreign genome
+        lambda c: c["population"].pop(),  # a population of the wrong size
+        _set("generation", 99),  # a generation beyond the run
+        lambda c: c["population"][3]["evaluation"].__setitem__("fitness", 0.0),
+        lambda c: c.pop("rng"),
+        _set("history", "nonsense"),
+    ],
+    ids=["genome", "population-size", "generation", "fitness", "rng", "history"],
+)
+def test_a_tampered_checkpoint_is_refused_as_corrupt(finished_run: Path, change) -> None:
+    _tamper(finished_run, change)
+    result = evolve("--resume", str(finished_run))
+    assert result.exit_code == 2
+    assert "corrupt checkpoint" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_a_checkpoint_from_another_run_is_refused(tmp_path: Path, finished_run: Path) -> None:
+    (tmp_path / "b").mkdir()
+    grammar, config = write_setup(tmp_path / "b", seed=4)
+    other = tmp_path / "other"
+    assert evolve(str(grammar), "-c", str(config), "-o", str(other)).exit_code == 0
+    (finished_run / "run-000" / "checkpoint.json").write_bytes(
+        (other / "run-000" / "checkpoint.json").read_bytes()
+    )
+    result = evolve("--resume", str(finished_run))
+    assert result.exit_code == 2
+    assert "belongs to another run" in result.stderr
+
+
+@pytest.mark.parametrize("content", ["[]", '{"digest": "x", "checkpoint": {"version": 2}}', "{", "null"])
+def test_a_malformed_checkpoint_is_refused(finished_run: Path, content: str) -> None:
+    (finished_run / "run-000" / "checkpoint.json").write_text(content)
+    result = evolve("--resume", str(finished_run))
+    assert result.exit_code == 2
+    assert "corrupt checkpoint" in result.stderr
+
+
+# ---- stated options do what they say --------------------------------------------------------
+
+
+def test_mutation_within_used_leaves_the_unused_tail_alone() -> None:
+    config = RunConfig(
+        population=20,
+        elite=0,
+        crossover=0.0,
+        mutation=1.0,
+        mutation_within_used=True,
+        init_max_depth=6,
+        tail=3.0,
+        backend="curve-match",
+        backend_settings={"targets": TARGETS},
+    )
+    evaluator = CurveMatch(TARGETS)
+
+    def tails_after_one_generation(config: RunConfig) -> tuple[set, list]:
+        pipeline = Pipeline.build(check(parse(GRAMMAR)), config)
+        state = initial_state(pipeline, evaluator, 0)
+        after = step(state, pipeline, evaluator)
+        return {i.genome[i.used_codons :] for i in state.population}, after.population
+
+    parents, children = tails_after_one_generation(config)
+    assert all(c.genome[c.used_codons :] in parents for c in children)  # tails came unchanged
+    parents, children = tails_after_one_generation(replace(config, mutation_within_used=False))
+    assert any(c.genome[c.used_codons :] not in parents for c in children)
