@@ -149,6 +149,12 @@ def command(
             )
     except (CheckpointError, PipelineError) as error:
         raise fail(str(error)) from None
+    except OSError as error:  # a full disk, a directory gone: the last checkpoint is intact
+        where = error.filename or directory.path
+        raise fail(
+            f"cannot write {where}: {error.strerror or error}; the run can continue from its last "
+            f"checkpoint with: gaitgram evolve --resume {directory.path}"
+        ) from None
     finally:
         evaluator.close()
 

@@ -382,3 +382,42 @@ def test_mutation_within_used_leaves_the_unused_tail_alone() -> None:
     assert all(c.genome[c.used_codons :] in parents for c in children)  # tails came unchanged
     parents, children = tails_after_one_generation(replace(config, mutation_within_used=False))
     assert any(c.genome[c.used_codons :] not in parents for c in children)
+
+
+# ---- failures are messages with exit codes -------------------------------------------------
+
+
+def test_a_full_disk_mid_run_is_an_error_message_and_resumable(tmp_path: Path) -> None:
+    import resource
+    import signal
+    import subprocess
+    import sys
+
+    grammar, config = write_setup(tmp_path)
+    run = tmp_path / "run"
+
+    def small_files() -> None:  # writes past 3 kB fail with EFBIG, as on a full disk
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (3_000, 3_000))
+
+    command = [
+        sys.executable,
+        "-m",
+        "gaitgram",
+        "evolve",
+        str(grammar),
+        "-c",
+        str(config),
+        "-o",
+        str(run),
+        "-q",
+    ]
+    full = subprocess.run(command, capture_output=True, text=True, preexec_fn=small_files)
+    assert full.returncode == 2
+    assert "error: cannot write" in full.stderr
+    assert f"gaitgram evolve --resume {run}" in full.stderr
+    assert "Traceback" not in full.stderr
+    resumed = subprocess.run(
+        command[:3] + ["evolve", "--resume", str(run), "-q"], capture_output=True, text=True
+    )
+    assert resumed.returncode == 0, resumed.stderr
