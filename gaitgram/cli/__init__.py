@@ -22,6 +22,7 @@ from gaitgram.cli import (
     report,
     sample,
     seed,
+    study,
     test,
 )
 
@@ -39,6 +40,7 @@ app.command("compile")(compile.command)
 app.command("map")(map.command)
 app.command("sample")(sample.command)
 app.command("evolve")(evolve.command)
+app.command("study")(study.command)
 app.command("report")(report.command)
 app.command("evaluate")(evaluate.command)
 app.command("render")(render.command)

@@ -62,11 +62,14 @@ class GenerationStats:
     invalid: int  # individuals with no viable gait (invalid genome, fell, ...)
     evaluations: int  # gaits evaluated this generation
     components: Mapping[str, float] = field(default_factory=dict)  # means over viable individuals
+    #: Over every individual, unviable ones at their (finite) score: the paper's "average fitness".
+    average_all: float = math.nan
 
     def as_record(self) -> dict[str, Any]:
         return {
             "generation": self.generation,
             "best": self.best,
+            "average_all": self.average_all,
             "average": self.average,
             "std": self.std,
             "invalid": self.invalid,
@@ -90,6 +93,7 @@ def generation_stats(generation: int, population: Sequence[Individual], evaluati
         invalid=len(population) - len(viable),
         evaluations=evaluations,
         components=components,
+        average_all=float(fitness.mean()),
     )
 
 
@@ -312,7 +316,7 @@ def _evaluation(record: Any, index: int) -> Evaluation:
 def _stats(record: Any, index: int) -> GenerationStats:
     _expect(isinstance(record, dict), f"history entry {index} is not a record")
     _expect(record.get("generation") == index, f"history entry {index} is for another generation")
-    number = {k: record.get(k) for k in ("best", "average", "std")}
+    number = {k: record.get(k) for k in ("best", "average", "std", "average_all")}
     for key, value in number.items():
         _expect(value is None or _is_number(value), f"history entry {index}: {key} is not a number")
     counts = {k: record.get(k) for k in ("invalid", "evaluations")}
@@ -329,6 +333,7 @@ def _stats(record: Any, index: int) -> GenerationStats:
         counts["invalid"],
         counts["evaluations"],
         components,
+        math.nan if number["average_all"] is None else float(number["average_all"]),
     )
 
 

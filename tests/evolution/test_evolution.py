@@ -122,7 +122,7 @@ def test_run_directory_records(tmp_path: Path) -> None:
         "summary.json",
     ]
     stats = (out / "run-000" / "stats.csv").read_text().splitlines()
-    assert stats[0].startswith("generation,best,average,std,invalid,evaluations,mean_rms_elbow_fore")
+    assert stats[0].startswith("generation,best,average_all,average,std,invalid,evaluations,mean_rms_elbow")
     assert len(stats) == 1 + 4
     lines = [json.loads(x) for x in (out / "run-000" / "stats.jsonl").read_text().splitlines()]
     assert [x["generation"] for x in lines] == [0, 1, 2, 3]

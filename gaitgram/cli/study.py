@@ -1,0 +1,139 @@
+"""``gaitgram study``: every arm and run of a study file, in parallel, resumable."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+from gaitgram.cli.common import err
+from gaitgram.evolution.engine import CheckpointError
+from gaitgram.evolution.rundir import RunDirectoryError
+from gaitgram.evolution.session import stop_on_interrupt
+from gaitgram.pipeline import PipelineError
+from gaitgram.study.runner import RunProgress, TaskResult, locked, prepare_study, run_study
+from gaitgram.study.spec import ScaleDown, StudyError, load_study
+
+
+def fail(message: str, code: int = 2) -> typer.Exit:
+    err.print(f"error: {message}", style="bold red", markup=False)
+    return typer.Exit(code)
+
+
+def command(
+    study_file: Annotated[Path, typer.Argument(help="The study file (docs/study.md).", show_default=False)],
+    out: Annotated[
+        Path, typer.Option("--out", "-o", help="The study directory; giving it again continues the study.")
+    ],
+    runs: Annotated[int | None, typer.Option(min=1, help="Runs per arm, instead of the file's.")] = None,
+    generations: Annotated[
+        int | None, typer.Option(min=1, help="Generations of every run, instead of the file's.")
+    ] = None,
+    population: Annotated[
+        int | None,
+        typer.Option(min=2, help="Population of every run; the elite keeps its share of it."),
+    ] = None,
+    jobs: Annotated[
+        int | None, typer.Option(min=1, help="Runs at once in local processes (default: one per core).")
+    ] = None,
+    threads: Annotated[
+        int | None, typer.Option(min=1, help="Simulation threads per run (default: cores / jobs).")
+    ] = None,
+    scheduler: Annotated[
+        str | None, typer.Option(help="Run on the Dask scheduler at this address, one run per task.")
+    ] = None,
+    dask_local: Annotated[
+        int | None, typer.Option(min=1, help="Run on a local Dask cluster of this many workers.")
+    ] = None,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print only the summary.")] = False,
+) -> None:
+    """Run a study: every arm (grammar, configuration, strategy) for its number of runs.
+
+    Runs go in parallel, one per core by default. Every generation of every run is checkpointed:
+    run the same command again after a stop, a crash or kill -9 and the study continues to exactly
+    the results of an uninterrupted one. A different study file or flags for an existing directory
+    are refused. Report it with `gaitgram report DIR`.
+    """
+    cores = os.cpu_count() or 1
+    jobs = jobs or (dask_local or cores)
+    threads = threads or max(1, cores // jobs)
+    try:
+        study = load_study(study_file, ScaleDown(runs, generations, population))
+        with locked(out):
+            directory = prepare_study(study, out)
+            results = _run(directory, jobs, threads, scheduler, dask_local, quiet)
+    except (StudyError, PipelineError, RunDirectoryError, CheckpointError) as error:
+        raise fail(str(error)) from None
+    except OSError as error:
+        raise fail(
+            f"cannot write {error.filename or out}: {error.strerror or error}; run the same command "
+            "again to continue the study"
+        ) from None
+    unfinished = [t for t in directory.tasks if not directory.finished(t)]
+    if unfinished:
+        err.print(
+            f"stopped with {len(unfinished)} run(s) unfinished; continue with the same command", markup=False
+        )
+        raise typer.Exit(130)
+    err.print(
+        f"study complete: {len(study.arms)} arms x {study.runs} runs in {out} ({len(results)} run(s) this time); "
+        f"report with: gaitgram report {out}",
+        markup=False,
+    )
+
+
+def _run(directory, jobs: int, threads: int, scheduler: str | None, dask_local: int | None, quiet: bool):
+    tasks = directory.tasks
+    config = {name: arm.config for name, arm in directory.arms.items()}
+    per_run = {name: c.generations + 1 for name, c in config.items()}
+    total = sum(per_run[t.arm] for t in tasks)
+    progress = Progress(
+        TextColumn("{task.fields[runs]}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("generations  {task.fields[rate]} evals/s"),
+        TimeRemainingColumn(),
+        console=err,
+        disable=quiet,
+    )
+    started = time.perf_counter()
+    first: dict[tuple[str, int], int] = {}
+    last_poll = 0.0
+
+    def on_progress(active: list[RunProgress], done: list[TaskResult]) -> None:
+        nonlocal last_poll
+        now = time.perf_counter()
+        if now - last_poll < 1.0:
+            return
+        last_poll = now
+        states = [directory.progress(t) for t in tasks]
+        generations = sum(min(p.generation + 1, per_run[p.arm]) for p in states)
+        evaluations = 0
+        for p in states:
+            first.setdefault((p.arm, p.run), p.evaluations)
+            evaluations += p.evaluations - first[(p.arm, p.run)]
+        finished = sum(p.generation + 1 >= per_run[p.arm] for p in states)
+        rate = evaluations / max(now - started, 1e-9)
+        progress.update(
+            bar, completed=generations, runs=f"{finished}/{len(tasks)} runs", rate=f"{rate:.1f}"
+        )
+
+    with progress, stop_on_interrupt() as should_stop:
+        bar = progress.add_task("study", total=total, runs=f"0/{len(tasks)} runs", rate="-")
+        on_progress([], [])
+        results = run_study(
+            directory,
+            jobs=jobs,
+            threads=threads,
+            scheduler=scheduler,
+            dask_local=dask_local,
+            on_progress=on_progress,
+            should_stop=should_stop,
+        )
+        last_poll = 0.0
+        on_progress([], results)
+    return results

@@ -1,0 +1,1 @@
+"""Studies: the paper's experiments in one command, with honest statistics."""

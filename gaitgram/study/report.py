@@ -1,0 +1,455 @@
+"""Study reports: the paper's tables and figures, with the statistics the paper did not compute.
+
+The input is a set of arms, each a run directory of ``gaitgram evolve`` (a
+study directory's ``arms/*``, or run directories given one by one). Per arm,
+the final generation of every run gives one final best and one final average;
+the report shows them in the layout of the paper's Tables 4 and 5 (mean ± SD),
+with medians, bootstrap intervals, the share of unviable gaits and the walk
+rate, and tests every difference (:mod:`gaitgram.study.stats`). Arms run at
+different budgets are refused: their numbers do not compare.
+
+Written files: ``summary.md``, ``summary.csv``, ``tables.tex`` (booktabs),
+``summary.json``, ``convergence.png`` and ``convergence.svg``.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from gaitgram import jsonio
+from gaitgram.fileio import write_atomically
+from gaitgram.study.stats import Comparison, bootstrap_median_ci, compare
+
+
+class ReportError(ValueError):
+    """Run directories that cannot be reported together; the message says why."""
+
+
+@dataclass(frozen=True)
+class RunRecord:
+    """One run's history and its final best individual."""
+
+    best: np.ndarray  # per generation
+    average: np.ndarray  # per generation, over every individual (unviable at their score)
+    average_viable: np.ndarray  # per generation, over viable individuals (NaN if none)
+    unviable_share: np.ndarray  # per generation
+    evaluations: int
+    final_status: str
+    walk: bool | None  # the final best is a walk (None: the backend does not say)
+
+
+@dataclass(frozen=True)
+class ArmRecord:
+    name: str
+    strategy: str
+    path: Path
+    budget: int  # planned evaluations per run (new genomes, not re-scored elites)
+    generations: int
+    population: int
+    runs: tuple[RunRecord, ...]
+
+    @property
+    def final_best(self) -> np.ndarray:
+        return np.array([r.best[-1] for r in self.runs])
+
+    @property
+    def final_average(self) -> np.ndarray:
+        return np.array([r.average[-1] for r in self.runs])
+
+    @property
+    def final_average_viable(self) -> np.ndarray:
+        return np.array([r.average_viable[-1] for r in self.runs])
+
+    @property
+    def final_unviable_share(self) -> np.ndarray:
+        return np.array([r.unviable_share[-1] for r in self.runs])
+
+    @property
+    def walk_rate(self) -> float | None:
+        walks = [r.walk for r in self.runs]
+        if any(w is None for w in walks):
+            return None
+        return sum(bool(w) for w in walks) / len(walks)
+
+
+def planned_budget(config: dict[str, Any]) -> int:
+    """Evaluations of new genomes a GE run makes: the initial population, then every generation's
+    offspring (elites re-scored after a schedule change are not new search)."""
+    return int(config["population"] + config["generations"] * (config["population"] - config["elite"]))
+
+
+def load_arm(path: Path, name: str | None = None, strategy: str = "ge") -> ArmRecord:
+    """An arm from a finished run directory; refuses unfinished or unreadable runs."""
+    config_path = path / "config.toml"
+    try:
+        import tomllib
+
+        config = tomllib.loads(config_path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as error:
+        raise ReportError(f"{path}: not a `gaitgram evolve` run directory ({config_path}: {error})") from None
+    runs = []
+    for run in range(int(config.get("runs", 1))):
+        runs.append(_load_run(path / f"run-{run:03d}", int(config["generations"])))
+    return ArmRecord(
+        name or path.name,
+        strategy,
+        path,
+        planned_budget(config),
+        int(config["generations"]),
+        int(config["population"]),
+        tuple(runs),
+    )
+
+
+def _load_run(path: Path, generations: int) -> RunRecord:
+    stats = path / "stats.jsonl"
+    try:
+        records = [json.loads(line) for line in stats.read_text(encoding="utf-8").splitlines() if line]
+        best_record = json.loads((path / "best.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError) as error:
+        raise ReportError(f"{path}: cannot read the run's records: {error}") from None
+    if len(records) != generations + 1:
+        raise ReportError(
+            f"{path}: the run has {len(records) - 1} of its {generations} generations; finish it first "
+            "(gaitgram evolve --resume, or the study command again)"
+        )
+
+    def column(key: str) -> np.ndarray:
+        return np.array([math.nan if r.get(key) is None else float(r[key]) for r in records])
+
+    population = np.array([float(r["evaluations"]) for r in records])
+    invalid = column("invalid")
+    size = population[0] if population[0] else 1.0
+    walk = best_record.get("components", {}).get("walk")
+    return RunRecord(
+        best=column("best"),
+        average=column("average_all") if "average_all" in records[0] else column("average"),
+        average_viable=column("average"),
+        unviable_share=invalid / size,
+        evaluations=int(population.sum()),
+        final_status=str(best_record.get("status")),
+        walk=None if walk is None else bool(walk >= 0.5 and best_record.get("status") == "ok"),
+    )
+
+
+def load_study_arms(directory: Path) -> list[ArmRecord]:
+    """The arms of a study directory, in the study's order."""
+    try:
+        manifest = json.loads((directory / "study.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError) as error:
+        raise ReportError(f"{directory}: not a study directory: {error}") from None
+    return [
+        load_arm(directory / "arms" / a["name"], a["name"], a.get("strategy", "ge")) for a in manifest["arms"]
+    ]
+
+
+def check_budgets(arms: list[ArmRecord]) -> None:
+    budgets = {a.budget for a in arms}
+    if len(budgets) > 1:
+        listing = ", ".join(f"{a.name}: {a.budget}" for a in arms)
+        raise ReportError(
+            "these arms were run at different budgets (planned evaluations per run: "
+            f"{listing}); their numbers do not compare in one table: report them separately, or run "
+            "them again with the same generations, population and elite"
+        )
+
+
+# ---- the report ------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ArmSummary:
+    name: str
+    strategy: str
+    runs: int
+    mean_best: float
+    sd_best: float
+    median_best: float
+    median_best_ci: tuple[float, float]
+    mean_average: float
+    sd_average: float
+    mean_average_viable: float
+    unviable_share: float
+    walk_rate: float | None
+
+
+def summarise(arm: ArmRecord) -> ArmSummary:
+    best, average = arm.final_best, arm.final_average
+    viable = arm.final_average_viable
+    return ArmSummary(
+        arm.name,
+        arm.strategy,
+        len(arm.runs),
+        float(best.mean()),
+        float(best.std(ddof=1)) if len(best) > 1 else math.nan,
+        float(np.median(best)),
+        bootstrap_median_ci(best),
+        float(average.mean()),
+        float(average.std(ddof=1)) if len(average) > 1 else math.nan,
+        float(np.nanmean(viable)) if np.isfinite(viable).any() else math.nan,
+        float(arm.final_unviable_share.mean()),
+        arm.walk_rate,
+    )
+
+
+@dataclass(frozen=True)
+class StudyReport:
+    arms: tuple[ArmRecord, ...]
+    summaries: tuple[ArmSummary, ...]
+    best: Comparison  # on each run's final best
+    average: Comparison  # on each run's final average
+
+    def as_json(self) -> dict[str, Any]:
+        return {
+            "arms": [
+                {
+                    "name": s.name,
+                    "strategy": s.strategy,
+                    "runs": s.runs,
+                    "budget": a.budget,
+                    "final_best": [float(v) for v in a.final_best],
+                    "final_average": [float(v) for v in a.final_average],
+                    "mean_best": s.mean_best,
+                    "sd_best": s.sd_best,
+                    "median_best": s.median_best,
+                    "median_best_ci95": list(s.median_best_ci),
+                    "mean_average": s.mean_average,
+                    "sd_average": s.sd_average,
+                    "mean_average_viable": s.mean_average_viable,
+                    "unviable_share": s.unviable_share,
+                    "walk_rate": s.walk_rate,
+                }
+                for s, a in zip(self.summaries, self.arms, strict=True)
+            ],
+            "kruskal_wallis": {
+                "best": {"h": self.best.kruskal_h, "p": self.best.kruskal_p},
+                "average": {"h": self.average.kruskal_h, "p": self.average.kruskal_p},
+            },
+            "pairs": [
+                {
+                    "first": p.first,
+                    "second": p.second,
+                    "best": {"u": p.u, "p": p.p_value, "p_holm": p.p_holm, "a12": p.a12},
+                    "average": {"u": q.u, "p": q.p_value, "p_holm": q.p_holm, "a12": q.a12},
+                }
+                for p, q in zip(self.best.pairs, self.average.pairs, strict=True)
+            ],
+        }
+
+
+def build_report(arms: list[ArmRecord]) -> StudyReport:
+    if not arms:
+        raise ReportError("nothing to report: no arms")
+    check_budgets(arms)
+    names = [a.name for a in arms]
+    if len(set(names)) != len(names):
+        raise ReportError(f"two arms are called {next(n for n in names if names.count(n) > 1)!r}")
+    return StudyReport(
+        tuple(arms),
+        tuple(summarise(a) for a in arms),
+        compare({a.name: a.final_best for a in arms}),
+        compare({a.name: a.final_average for a in arms}),
+    )
+
+
+def _g(value: float | None, digits: int = 4) -> str:
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "n/a"
+    return f"{value:.{digits}g}"
+
+
+def _p(value: float) -> str:
+    if math.isnan(value):
+        return "n/a"
+    return "< 0.0001" if value < 1e-4 else f"{value:.4f}"
+
+
+def _rate(value: float | None) -> str:
+    return "n/a" if value is None else f"{value:.0%}"
+
+
+def markdown(report: StudyReport, title: str = "") -> str:
+    lines = [f"# {title}", ""] if title else []
+    lines += [
+        "Final generation, over runs. Fitness is minimised. *Average* is the population's mean over "
+        "every individual, unviable gaits at their score (the paper's Avg. Avg.); *viable average* "
+        "leaves them out.",
+        "",
+        "| arm | runs | avg. best | SD | avg. average | SD | median best [95 % CI] | viable average "
+        "| unviable | walk rate |",
+        "|---|---:|---:|---:|---:|---:|---|---:|---:|---:|",
+    ]
+    for s in report.summaries:
+        low, high = s.median_best_ci
+        lines.append(
+            f"| {s.name} | {s.runs} | {_g(s.mean_best)} | {_g(s.sd_best)} | {_g(s.mean_average)} | "
+            f"{_g(s.sd_average)} | {_g(s.median_best)} [{_g(low)}, {_g(high)}] | "
+            f"{_g(s.mean_average_viable)} | {s.unviable_share:.0%} | {_rate(s.walk_rate)} |"
+        )
+    for label, comparison in (("final best", report.best), ("final average", report.average)):
+        lines += [
+            "",
+            f"**{label}**: Kruskal-Wallis H = {_g(comparison.kruskal_h)}, p = {_p(comparison.kruskal_p)}.",
+            "",
+            "| pair | U | p | p (Holm) | A12 | effect |",
+            "|---|---:|---:|---:|---:|---|",
+        ]
+        for pair in comparison.pairs:
+            lines.append(
+                f"| {pair.first} vs {pair.second} | {_g(pair.u)} | {_p(pair.p_value)} | {_p(pair.p_holm)} | "
+                f"{pair.a12:.3f} | {pair.magnitude} |"
+            )
+    lines += [
+        "",
+        "A12 is the probability that a run of the first arm ends with a lower (better) value than a "
+        "run of the second (0.5: no difference; 0.56, 0.64 and 0.71 mark small, medium and large "
+        "effects). p-values are two-sided Mann-Whitney U, Holm-adjusted over the pairs.",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+_CSV_HEADER = [
+    "arm",
+    "strategy",
+    "runs",
+    "mean_best",
+    "sd_best",
+    "median_best",
+    "median_best_ci_low",
+    "median_best_ci_high",
+    "mean_average",
+    "sd_average",
+    "mean_average_viable",
+    "unviable_share",
+    "walk_rate",
+]
+
+
+def csv_text(report: StudyReport) -> str:
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(_CSV_HEADER)
+    for s in report.summaries:
+        writer.writerow(
+            [
+                s.name,
+                s.strategy,
+                s.runs,
+                s.mean_best,
+                s.sd_best,
+                s.median_best,
+                *s.median_best_ci,
+                s.mean_average,
+                s.sd_average,
+                s.mean_average_viable,
+                s.unviable_share,
+                "" if s.walk_rate is None else s.walk_rate,
+            ]
+        )
+    return out.getvalue()
+
+
+def _tex(text: str) -> str:
+    for char, escaped in (
+        ("\\", r"\textbackslash{}"),
+        ("&", r"\&"),
+        ("%", r"\%"),
+        ("_", r"\_"),
+        ("#", r"\#"),
+    ):
+        text = text.replace(char, escaped)
+    return text
+
+
+def latex(report: StudyReport) -> str:
+    """Booktabs tables, ready for ``\\usepackage{booktabs}``."""
+    rows = [
+        f"{_tex(s.name)} & {s.runs} & {_g(s.mean_best)} & {_g(s.sd_best)} & {_g(s.mean_average)} & "
+        f"{_g(s.sd_average)} & {_tex(_rate(s.walk_rate))} \\\\"
+        for s in report.summaries
+    ]
+    pairs = [
+        f"{_tex(p.first)} vs {_tex(p.second)} & {_p(p.p_holm)} & {p.a12:.3f} & {p.magnitude} \\\\"
+        for p in report.best.pairs
+    ]
+    return "\n".join(
+        [
+            "% gaitgram study report: final best and average over runs (mean and SD).",
+            "\\begin{tabular}{lrrrrrr}",
+            "\\toprule",
+            "Arm & Runs & Avg.\\ best & SD & Avg.\\ avg. & SD & Walk rate \\\\",
+            "\\midrule",
+            *rows,
+            "\\bottomrule",
+            "\\end{tabular}",
+            "",
+            "% Pairwise two-sided Mann-Whitney U on the final best, Holm-adjusted; Vargha-Delaney A12.",
+            "\\begin{tabular}{lrrl}",
+            "\\toprule",
+            "Pair & $p$ (Holm) & $A_{12}$ & Effect \\\\",
+            "\\midrule",
+            *pairs,
+            "\\bottomrule",
+            "\\end{tabular}",
+            "",
+        ]
+    )
+
+
+def convergence_figure(arms: list[ArmRecord]):  # -> matplotlib.figure.Figure
+    """Best (left) and average (right) fitness by generation: the mean over runs with its 95 %
+    confidence band (t interval of the mean), as the paper's Figs. 3, 4 and 6 without the band."""
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import MaxNLocator
+    from scipy import stats
+
+    figure = Figure(figsize=(11, 4.5), layout="constrained")
+    panels = figure.subplots(1, 2)
+    for index, arm in enumerate(arms):
+        colour = f"C{index % 10}"
+        for axes, key in zip(panels, ("best", "average"), strict=True):
+            values = np.array([getattr(r, key) for r in arm.runs])  # [runs, generations]
+            generations = np.arange(values.shape[1])
+            mean = values.mean(axis=0)
+            axes.plot(generations, mean, color=colour, label=f"{arm.name} ({len(arm.runs)} runs)")
+            if len(arm.runs) > 1:
+                sem = values.std(axis=0, ddof=1) / math.sqrt(len(arm.runs))
+                half = sem * stats.t.ppf(0.975, len(arm.runs) - 1)
+                axes.fill_between(generations, mean - half, mean + half, color=colour, alpha=0.2, linewidth=0)
+    for axes, label in zip(panels, ("best fitness", "average fitness (all individuals)"), strict=True):
+        axes.set_xlabel("generation")
+        axes.xaxis.set_major_locator(MaxNLocator(integer=True))
+        axes.set_ylabel(f"{label}, mean over runs")
+        axes.grid(alpha=0.3)
+    panels[0].legend(fontsize="small")
+    figure.suptitle("Mean over runs with 95 % confidence bands (lower is better)")
+    return figure
+
+
+def write_study_report(
+    arms: list[ArmRecord], out: Path, *, title: str = "", force: bool = False
+) -> list[Path]:
+    report = build_report(arms)
+    names = ("summary.md", "summary.csv", "tables.tex", "summary.json", "convergence.png", "convergence.svg")
+    targets = [out / n for n in names]
+    existing = [t for t in targets if t.exists()]
+    if existing and not force:
+        raise ReportError(
+            f"{existing[0]} exists; pass --force to overwrite the report, or choose another --out"
+        )
+    write_atomically(targets[0], markdown(report, title))
+    write_atomically(targets[1], csv_text(report))
+    write_atomically(targets[2], latex(report))
+    write_atomically(targets[3], jsonio.dumps(report.as_json(), indent=1) + "\n")
+    figure = convergence_figure(list(arms))
+    figure.savefig(targets[4], dpi=120)
+    figure.savefig(targets[5])
+    return targets

@@ -1,0 +1,168 @@
+"""Studies: a tiny study runs, survives kill -9, resumes to identical results, and its statistics
+are scipy's on the same numbers."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from gaitgram.study.report import build_report, load_study_arms, write_study_report
+from gaitgram.study.spec import ScaleDown, StudyError, load_study
+from gaitgram.study.stats import a12, holm
+
+GRAMMAR = """\
+@start <gait>
+<gait> ::= <hip>;<elbow>
+@joint hip_hind
+<hip> ::= <amp>*sin(<k>*2*PI*t+<phase>) | <amp>*cos(<k>*2*PI*t+<phase>)
+@joint elbow_fore
+<elbow> ::= <amp>*sin(<k>*2*PI*t+<phase>)+<amp>
+<amp> ::= int[0..20]
+<k> ::= int[1..3]
+<phase> ::= float[0..3 step 0.5]
+"""
+
+STUDY = """\
+title = "tiny"
+runs = 3
+seed = 7
+
+[settings]
+generations = {generations}
+population = 12
+elite = 1
+init_max_depth = 6
+backend = "curve-match"
+
+[settings.backend_settings.targets]
+hip_hind = "7*sin(1*2*PI*t+1.5)"
+elbow_fore = "3*sin(2*2*PI*t+0.5)+4"
+
+[[arm]]
+name = "plain"
+grammar = "g.gg"
+
+[[arm]]
+name = "mutant"
+grammar = "g.gg"
+[arm.settings]
+mutation = 0.2
+"""
+
+
+def write_study(tmp_path: Path, generations: int = 2) -> Path:
+    (tmp_path / "g.gg").write_text(GRAMMAR)
+    path = tmp_path / "tiny.toml"
+    path.write_text(STUDY.format(generations=generations))
+    return path
+
+
+def gaitgram(*args: str, **kwargs) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "gaitgram", *args], capture_output=True, text=True, **kwargs)
+
+
+def test_a_study_killed_and_resumed_gives_the_uninterrupted_results(tmp_path: Path) -> None:
+    study = write_study(tmp_path, generations=150)
+    whole = gaitgram("study", str(study), "-o", str(tmp_path / "whole"), "-q", "--jobs", "2")
+    assert whole.returncode == 0, whole.stderr
+    out = tmp_path / "killed"
+    process = subprocess.Popen(
+        [sys.executable, "-m", "gaitgram", "study", str(study), "-o", str(out), "-q", "--jobs", "2"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
+    deadline = time.monotonic() + 60
+    while not list(out.glob("arms/*/run-000/stats.jsonl")) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    time.sleep(0.3)
+    os.kill(process.pid, signal.SIGKILL)  # the study process only: its workers must die with it
+    process.wait()
+    assert not (out / "arms" / "plain" / "summary.json").exists()
+    time.sleep(0.5)
+    resumed = gaitgram("study", str(study), "-o", str(out), "-q", "--jobs", "1")
+    assert resumed.returncode == 0, resumed.stderr
+    for arm in ("plain", "mutant"):
+        assert (out / "arms" / arm / "summary.json").read_text() == (
+            tmp_path / "whole" / "arms" / arm / "summary.json"
+        ).read_text()
+        for run in range(3):
+            name = f"arms/{arm}/run-{run:03d}/stats.csv"
+            assert (out / name).read_text() == (tmp_path / "whole" / name).read_text()
+
+
+def test_the_report_statistics_are_scipys(tmp_path: Path) -> None:
+    study = write_study(tmp_path)
+    result = gaitgram("study", str(study), "-o", str(tmp_path / "s"), "-q")
+    assert result.returncode == 0, result.stderr
+    arms = load_study_arms(tmp_path / "s")
+    report = build_report(arms)
+    plain, mutant = (a.final_best for a in arms)
+    assert report.best.kruskal_p == pytest.approx(stats.kruskal(plain, mutant).pvalue)
+    (pair,) = report.best.pairs
+    assert pair.p_value == pytest.approx(stats.mannwhitneyu(plain, mutant, alternative="two-sided").pvalue)
+    assert pair.a12 == pytest.approx(np.mean([(x < y) + 0.5 * (x == y) for x in plain for y in mutant]))
+    written = write_study_report(arms, tmp_path / "report")
+    summary = json.loads((tmp_path / "report" / "summary.json").read_text())
+    assert [a["final_best"] for a in summary["arms"]] == [list(plain), list(mutant)]
+    assert summary["pairs"][0]["best"]["p_holm"] == pytest.approx(pair.p_holm)
+    assert all(p.stat().st_size > 0 for p in written)
+    assert "\\toprule" in (tmp_path / "report" / "tables.tex").read_text()
+
+
+def test_a_different_study_in_the_same_directory_is_refused(tmp_path: Path) -> None:
+    study = write_study(tmp_path)
+    assert gaitgram("study", str(study), "-o", str(tmp_path / "s"), "-q").returncode == 0
+    more = gaitgram("study", str(study), "-o", str(tmp_path / "s"), "-q", "--generations", "3")
+    assert more.returncode == 2
+    assert "arm 'plain' differs" in more.stderr
+    assert "generations: 2 -> 3" in more.stderr
+
+
+def test_runs_of_different_budgets_are_not_reported_together(tmp_path: Path) -> None:
+    study = write_study(tmp_path)
+    assert gaitgram("study", str(study), "-o", str(tmp_path / "a"), "-q").returncode == 0
+    assert (
+        gaitgram("study", str(study), "-o", str(tmp_path / "b"), "-q", "--generations", "3").returncode == 0
+    )
+    from gaitgram.study.report import ReportError, load_arm
+
+    arms = [
+        load_arm(tmp_path / "a" / "arms" / "plain", "two"),
+        load_arm(tmp_path / "b" / "arms" / "plain", "three"),
+    ]
+    with pytest.raises(ReportError, match="different budgets"):
+        build_report(arms)
+
+
+def test_study_files_are_checked_with_the_arm_named(tmp_path: Path) -> None:
+    study = write_study(tmp_path)
+    study.write_text(study.read_text().replace("mutation = 0.2", "mutaton = 0.2"))
+    with pytest.raises(StudyError, match=r"arm 'mutant'.*did you mean mutation"):
+        load_study(study)
+    study.write_text(STUDY.format(generations=2).replace('name = "mutant"', 'name = "plain"'))
+    with pytest.raises(StudyError, match="two arms are named 'plain'"):
+        load_study(study)
+
+
+def test_scaling_down_keeps_the_elites_share(tmp_path: Path) -> None:
+    study = write_study(tmp_path)
+    study.write_text(study.read_text().replace("population = 12\nelite = 1", "population = 75\nelite = 7"))
+    scaled = load_study(study, ScaleDown(runs=2, generations=5, population=20))
+    config = scaled.arms[0].config
+    assert (scaled.runs, config.generations, config.population, config.elite) == (2, 5, 20, 2)
+
+
+def test_holm_and_a12_on_known_values() -> None:
+    assert holm([0.01, 0.04, 0.03]) == pytest.approx([0.03, 0.06, 0.06])
+    assert a12([1, 2], [3, 4]) == 1.0
+    assert a12([1, 2], [1, 2]) == 0.5
