@@ -27,6 +27,7 @@ from gaitgram.cli import (
 )
 
 app = typer.Typer(
+    rich_markup_mode=None,  # help text is plain: brackets, as in pip extras, are kept
     name="gaitgram",
     help="Grammars for Grammatical Evolution of animal gaits: check, format, compile, evolve.",
     no_args_is_help=True,

@@ -38,8 +38,8 @@ def command(
     Exit status: 0 no errors, 1 errors found, 2 a file could not be read or the command line is wrong.
     """
     values = parse_defines(defines)
-    out = Console(highlight=False, soft_wrap=True)
-    err = Console(stderr=True, highlight=False, soft_wrap=True)
+    out = Console(highlight=False, soft_wrap=True, markup=False)
+    err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
     counts = dict.fromkeys(Severity, 0)
     records: list[dict[str, object]] = []
     unreadable = 0

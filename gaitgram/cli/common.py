@@ -5,16 +5,27 @@ from __future__ import annotations
 import re
 import sys
 from pathlib import Path
+from types import ModuleType
 
 import typer
 from rich.console import Console
 
 from gaitgram.analysis import CheckResult, check
 from gaitgram.cli.output import human, print_source_error
+from gaitgram.extras import MissingExtra, require
 from gaitgram.language import SourceError, parse
 from gaitgram.language.source import read_source
 
-err = Console(stderr=True, highlight=False, soft_wrap=True)
+err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
+
+
+def require_extra(module: str, purpose: str) -> ModuleType:
+    """Import an optional dependency, or print how to install it and exit 2."""
+    try:
+        return require(module, purpose)
+    except MissingExtra as error:
+        err.print(f"error: {error}", style="bold red")
+        raise typer.Exit(2) from None
 
 
 def load_usable(path: Path, defines: dict[str, int]) -> CheckResult:

@@ -99,7 +99,7 @@ def command(
             record["recorded_fitness"] = chosen.recorded.fitness
         typer.echo(jsonio.dumps(record))
     else:
-        out = Console(highlight=False)
+        out = Console(highlight=False, markup=False)
         table = Table(title=f"{pipeline.backend}: {evaluation.status.value}", show_header=True)
         table.add_column("component")
         table.add_column("value", justify="right")

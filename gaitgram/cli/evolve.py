@@ -106,7 +106,7 @@ def command(
 
     run_config = directory.config
     total = run_config.runs * (run_config.generations + 1)
-    out_console = Console(highlight=False, soft_wrap=True)
+    out_console = Console(highlight=False, soft_wrap=True, markup=False)
     progress = Progress(
         TextColumn("run {task.fields[run]}"),
         BarColumn(),

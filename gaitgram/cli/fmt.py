@@ -30,8 +30,8 @@ def command(
     Exit status: 0 done (or nothing to change), 1 with --check/--diff when a file would change or
     a file has syntax errors, 2 when a file cannot be read or written.
     """
-    out = Console(highlight=False, soft_wrap=True)
-    err = Console(stderr=True, highlight=False, soft_wrap=True)
+    out = Console(highlight=False, soft_wrap=True, markup=False)
+    err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
     changed = refused = failed = 0
     for path in files:
         try:

@@ -6,8 +6,6 @@ from typing import Annotated
 
 import typer
 
-from gaitgram.cli.common import err
-
 
 def command(
     tcp: Annotated[
@@ -15,9 +13,6 @@ def command(
     ] = None,
 ) -> None:
     """Run the gaitgram language server for editors (see docs/editors.md)."""
-    try:
-        from gaitgram_lsp.server import main
-    except ImportError:
-        err.print("error: the language server needs pygls: pip install 'gaitgram[lsp]'", style="bold red")
-        raise typer.Exit(2) from None
+    from gaitgram_lsp.server import main
+
     main(["--tcp", tcp] if tcp else [])

@@ -58,7 +58,7 @@ def command(
             record["tree"] = rendered
         typer.echo(json.dumps(record, ensure_ascii=False))
     else:
-        out = Console(highlight=False, soft_wrap=True)
+        out = Console(highlight=False, soft_wrap=True, markup=False)
         if derivation.valid:
             out.print(derivation.phenotype, markup=False)
         else:

@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from gaitgram.cli.common import err, load_usable, read_genome
+from gaitgram.cli.common import err, load_usable, read_genome, require_extra
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper
 
@@ -24,11 +24,7 @@ def command(
     defines: Defines = None,
 ) -> None:
     """Plot each joint's curve over one cycle (one panel per joint), the seed dashed beside it."""
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        err.print("error: plots need matplotlib: pip install 'gaitgram[plot]'", style="bold red")
-        raise typer.Exit(2) from None
+    require_extra("matplotlib", "plots")
     if output.suffix.lower() not in (".png", ".svg", ".pdf"):
         raise typer.BadParameter("the output must end in .png, .svg or .pdf", param_hint="--output")
     if output.exists() and not force:

@@ -14,7 +14,9 @@ from gaitgram.seed import SeedError, load_seed, read_seed_csv
 from gaitgram.seed.grammars import Style, fit_seed, write_grammar
 
 app = typer.Typer(
-    help="Seed data: Fourier analysis and grammars in the paper's styles.", no_args_is_help=True
+    rich_markup_mode=None,  # help text is plain: brackets, as in pip extras, are kept
+    help="Seed data: Fourier analysis and grammars in the paper's styles.",
+    no_args_is_help=True,
 )
 
 
@@ -40,7 +42,7 @@ def fit(
     except ValueError as error:
         err.print(f"error: {error}", style="bold red")
         raise typer.Exit(2) from None
-    out = Console(highlight=False, soft_wrap=True)
+    out = Console(highlight=False, soft_wrap=True, markup=False)
     for joint, result in fits.items():
         if as_json:
             out.out(

@@ -80,7 +80,8 @@ def command(
         )
         raise typer.Exit(130)
     err.print(
-        f"study complete: {len(study.arms)} arms x {study.runs} runs in {out} ({len(results)} run(s) this time); "
+        f"study complete: {len(study.arms)} arms x {study.runs} runs in {out} "
+        f"({len(results)} run(s) this time); "
         f"report with: gaitgram report {out}",
         markup=False,
     )
@@ -118,9 +119,7 @@ def _run(directory, jobs: int, threads: int, scheduler: str | None, dask_local: 
             evaluations += p.evaluations - first[(p.arm, p.run)]
         finished = sum(p.generation + 1 >= per_run[p.arm] for p in states)
         rate = evaluations / max(now - started, 1e-9)
-        progress.update(
-            bar, completed=generations, runs=f"{finished}/{len(tasks)} runs", rate=f"{rate:.1f}"
-        )
+        progress.update(bar, completed=generations, runs=f"{finished}/{len(tasks)} runs", rate=f"{rate:.1f}")
 
     with progress, stop_on_interrupt() as should_stop:
         bar = progress.add_task("study", total=total, runs=f"0/{len(tasks)} runs", rate="-")

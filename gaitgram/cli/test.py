@@ -12,6 +12,7 @@ from typing import Annotated, Any
 import typer
 from hypothesis import HealthCheck, given, seed, settings
 from rich.console import Console
+from rich.text import Text
 
 from gaitgram.cli.common import err, load_usable
 from gaitgram.cli.options import Defines, parse_defines
@@ -69,12 +70,13 @@ def command(
         out = Console(highlight=False, soft_wrap=True)
         for result in results:
             if result["passed"]:
-                out.print(f"[green]passed[/green]  {result['property']}")
+                out.print(Text.assemble(("passed", "green"), f"  {result['property']}"))
             else:
-                out.print(f"[bold red]FAILED[/bold red]  {result['property']}: {result['reason']}")
-                out.print(f"  genome: {','.join(map(str, result['genome']))}", markup=False)
-                out.print(f"  phenotype: {result['phenotype']}", markup=False)
-                out.print("  derivation:\n" + _indent(result["derivation"]), markup=False)
+                failure = f"  {result['property']}: {result['reason']}"
+                out.print(Text.assemble(("FAILED", "bold red"), failure))
+                out.print(f"  genome: {','.join(map(str, result['genome']))}")
+                out.print(f"  phenotype: {result['phenotype']}")
+                out.print("  derivation:\n" + _indent(result["derivation"]))
     if not all(r["passed"] for r in results):
         raise typer.Exit(1)
 

@@ -10,7 +10,7 @@ from evolution.test_evolution import config_file
 from typer.testing import CliRunner
 
 from gaitgram.cli import app
-from gaitgram.evolution.report import load_run_set, summary_rows
+from gaitgram.study.report import load_arm
 
 runner = CliRunner()
 
@@ -47,16 +47,19 @@ def test_report_writes_figures_and_tables(run_dirs: list[Path], tmp_path: Path) 
     out = tmp_path / "report"
     result = runner.invoke(app, ["report", *map(str, run_dirs), "-o", str(out)])
     assert result.exit_code == 0, result.stderr
-    assert (out / "fitness.png").read_bytes().startswith(b"\x89PNG")
-    assert "<svg" in (out / "fitness.svg").read_text()
+    assert (out / "convergence.png").read_bytes().startswith(b"\x89PNG")
+    assert "<svg" in (out / "convergence.svg").read_text()
     rows = list(csv.DictReader((out / "summary.csv").open()))
-    assert [r["grammar"] for r in rows] == ["first", "second"]
-    first = load_run_set(run_dirs[0])
-    assert first.runs == 3
-    assert float(rows[0]["average best"]) == pytest.approx(first.best[:, -1].mean())
-    assert float(rows[0]["std best"]) == pytest.approx(first.best[:, -1].std())
-    assert "| first | 3 | 5 |" in (out / "summary.md").read_text()
-    assert summary_rows([first])[0].generations == 5
+    assert [r["arm"] for r in rows] == ["first", "second"]
+    first = load_arm(run_dirs[0])
+    assert len(first.runs) == first.generations // 5 * 3 == 3
+    assert float(rows[0]["mean_best"]) == pytest.approx(first.final_best.mean())
+    assert float(rows[0]["sd_best"]) == pytest.approx(first.final_best.std(ddof=1))
+    summary = (out / "summary.md").read_text()
+    assert summary.startswith("Final generation")
+    assert "| first | 3 |" in summary
+    assert "first vs second" in summary  # the difference is tested
+    assert "\\begin{tabular}" in (out / "tables.tex").read_text()
 
 
 def test_report_refuses_to_overwrite_and_explains_bad_directories(
@@ -70,4 +73,4 @@ def test_report_refuses_to_overwrite_and_explains_bad_directories(
     assert runner.invoke(app, ["report", str(run_dirs[0]), "-o", str(out), "--force"]).exit_code == 0
     bad = runner.invoke(app, ["report", str(tmp_path), "-o", str(tmp_path / "r2")])
     assert bad.exit_code == 2
-    assert "no run-*/stats.jsonl" in bad.stderr
+    assert "not a `gaitgram evolve` run directory" in bad.stderr

@@ -418,6 +418,6 @@ def test_a_full_disk_mid_run_is_an_error_message_and_resumable(tmp_path: Path) -
     assert f"gaitgram evolve --resume {run}" in full.stderr
     assert "Traceback" not in full.stderr
     resumed = subprocess.run(
-        command[:3] + ["evolve", "--resume", str(run), "-q"], capture_output=True, text=True
+        [*command[:3], "evolve", "--resume", str(run), "-q"], capture_output=True, text=True
     )
     assert resumed.returncode == 0, resumed.stderr

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from gaitgram.study.report import build_report, load_study_arms, write_study_report
+from gaitgram.study.report import build_report, load_study_arms
 from gaitgram.study.spec import ScaleDown, StudyError, load_study
 from gaitgram.study.stats import a12, holm
 
@@ -111,11 +111,13 @@ def test_the_report_statistics_are_scipys(tmp_path: Path) -> None:
     (pair,) = report.best.pairs
     assert pair.p_value == pytest.approx(stats.mannwhitneyu(plain, mutant, alternative="two-sided").pvalue)
     assert pair.a12 == pytest.approx(np.mean([(x < y) + 0.5 * (x == y) for x in plain for y in mutant]))
-    written = write_study_report(arms, tmp_path / "report")
+    reported = gaitgram("report", str(tmp_path / "s"), "-o", str(tmp_path / "report"))
+    assert reported.returncode == 0, reported.stderr
+    assert "plain vs mutant" in reported.stdout
     summary = json.loads((tmp_path / "report" / "summary.json").read_text())
     assert [a["final_best"] for a in summary["arms"]] == [list(plain), list(mutant)]
     assert summary["pairs"][0]["best"]["p_holm"] == pytest.approx(pair.p_holm)
-    assert all(p.stat().st_size > 0 for p in written)
+    assert (tmp_path / "report" / "convergence.png").read_bytes().startswith(b"\x89PNG")
     assert "\\toprule" in (tmp_path / "report" / "tables.tex").read_text()
 
 
