@@ -30,7 +30,7 @@ from typing import Any
 
 from gaitgram.analysis import CheckResult
 from gaitgram.analysis.facts import GrammarFacts
-from gaitgram.backends.api import Evaluation, Evaluator, GaitStatus, SettingsError
+from gaitgram.backends.api import WORST_FITNESS, Evaluation, Evaluator, GaitStatus, SettingsError
 from gaitgram.backends.registry import (
     BackendLoadError,
     BackendNotFound,
@@ -161,10 +161,18 @@ class Pipeline:
             raise PipelineError(
                 f"backend {self.backend!r} returned {len(evaluations)} evaluations for {len(genomes)} gaits"
             )
+        unviable = self.unviable_fitness(generation)
         return [
-            Individual(tuple(g), m.used_codons, m.phenotype, m.joints, honest(e))
+            Individual(tuple(g), m.used_codons, m.phenotype, m.joints, honest(e, unviable))
             for g, m, e in zip(genomes, mapped, evaluations, strict=True)
         ]
+
+    def unviable_fitness(self, generation: int) -> float:
+        """What a gait that cannot be scored scores in ``generation`` (the backend's finite
+        penalty under the weights in force, or ``WORST_FITNESS``)."""
+        if self.spec.unviable_fitness is None:
+            return WORST_FITNESS
+        return float(self.spec.unviable_fitness(self.config.backend_settings, self.weights_at(generation)))
 
     def load_evaluator(self, runtime: Mapping[str, Any] | None = None) -> Evaluator:
         """The backend, loaded with the run's settings; ``runtime`` may change only settings that
@@ -187,16 +195,18 @@ class Pipeline:
             raise PipelineError(f"backend {self.backend!r}: {error}") from None
 
 
-def honest(evaluation: Evaluation) -> Evaluation:
-    """An evaluation that says ``ok`` only if everything it measured is a finite number."""
+def honest(evaluation: Evaluation, unviable: float = WORST_FITNESS) -> Evaluation:
+    """An evaluation that says ``ok`` only if everything it measured is a finite number; one that
+    is not viable scores ``unviable``."""
     if not evaluation.status.viable:
-        return evaluation
+        return replace(evaluation, fitness=unviable)
     bad = [name for name, value in evaluation.components.items() if not _finite(value)]
     if not _finite(evaluation.fitness):
         bad.insert(0, "fitness")
     if not bad:
         return evaluation
-    return Evaluation.unviable(GaitStatus.NON_FINITE, f"the backend measured a non-finite {', '.join(bad)}")
+    detail = f"the backend measured a non-finite {', '.join(bad)}"
+    return replace(Evaluation.unviable(GaitStatus.NON_FINITE, detail), fitness=unviable)
 
 
 def _finite(value: object) -> bool:

@@ -44,6 +44,10 @@ class BackendSpec:
       differ when a run is resumed or re-evaluated.
     * ``version`` changes whenever the same gait could score differently (a new
       model, a new fitness formula, another simulator release).
+    * ``unviable_fitness(settings, weights)`` is the finite score of a gait that
+      cannot be scored (fell, diverged, invalid), under the weights in force
+      (None: the backend's own); it must be worse than any viable score. Without
+      it such gaits score ``WORST_FITNESS`` and population averages mean little.
     """
 
     name: str
@@ -54,6 +58,7 @@ class BackendSpec:
     weight_names: Callable[[Mapping[str, Any]], frozenset[str]] | None = None
     runtime_settings: frozenset[str] = field(default_factory=frozenset)
     version: str = ""
+    unviable_fitness: Callable[[Mapping[str, Any], Mapping[str, float] | None], float] | None = None
 
     def checked_settings(self, settings: Mapping[str, Any]) -> dict[str, Any]:
         """``settings`` checked and normalised; :class:`SettingsError` names the bad key."""

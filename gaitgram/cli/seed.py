@@ -80,7 +80,11 @@ def grammar(
     """Write a grammar from the seed in one of the paper's styles."""
     seed = _seed(seed_csv)
     command = f"gaitgram seed grammar --style {style.value}" + (f" -o {output}" if output else "")
-    text = write_grammar(style, seed, threshold=threshold, command=command)
+    try:
+        text = write_grammar(style, seed, threshold=threshold, command=command)
+    except ValueError as error:  # a seed whose curves leave the style no room within the limits
+        err.print(f"error: {error}", style="bold red")
+        raise typer.Exit(2) from None
     if output is None:
         typer.echo(text, nl=False)
         return

@@ -144,7 +144,7 @@ def _arm(
     values.update(_table(data, "settings", label))
     values["runs"] = runs
     if scale.generations is not None:
-        values["generations"] = scale.generations
+        _scale_generations(values, scale.generations)
     if scale.population is not None:
         _scale_population(values, scale.population)
     try:
@@ -152,6 +152,21 @@ def _arm(
     except ConfigError as error:
         raise StudyError(str(error)) from None
     return Arm(name, (base / grammar), strategy, config, dict(defines))
+
+
+def _scale_generations(values: dict[str, Any], generations: int) -> None:
+    """``--generations N``: a weight schedule's stages start at the same share of the run (the
+    same design, shorter), as long as each still starts at a generation of its own."""
+    old = values.get("generations", RunConfig().generations)
+    schedule = values.get("weight_schedule")
+    if isinstance(old, int) and old > 0 and isinstance(schedule, list):
+        values["weight_schedule"] = [
+            {**stage, "start": round(stage["start"] * generations / old)}
+            if isinstance(stage, Mapping) and isinstance(stage.get("start"), int)
+            else stage
+            for stage in schedule
+        ]
+    values["generations"] = generations
 
 
 def _scale_population(values: dict[str, Any], population: int) -> None:

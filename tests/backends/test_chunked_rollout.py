@@ -119,9 +119,9 @@ def test_chunks_are_bit_identical_to_one_chunk_and_to_the_raw_rollout(threads: i
         whole.close()
     statuses = {r.status for r in reference}
     assert GaitStatus.OK in statuses
-    assert {GaitStatus.FELL, GaitStatus.FLIPPED} <= statuses
-    if thresholds == "strict":
-        assert GaitStatus.UNSTABLE in statuses
+    assert GaitStatus.FELL in statuses
+    if thresholds == "strict":  # the trunk only pitches (sagittal plane): it flips at tight thresholds
+        assert {GaitStatus.UNSTABLE, GaitStatus.FLIPPED} <= statuses
 
     for chunk in (7, 64, 125, 200):
         chunked = evaluator(threads, chunk_steps=chunk)

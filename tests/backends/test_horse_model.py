@@ -56,9 +56,12 @@ def test_mass_is_a_horse(model: mujoco.MjModel) -> None:
 
 def test_joints_and_actuators(model: mujoco.MjModel) -> None:
     types = [int(t) for t in model.jnt_type]
-    assert types.count(mujoco.mjtJoint.mjJNT_FREE) == 1
-    assert types.count(mujoco.mjtJoint.mjJNT_HINGE) == 21
-    assert model.njnt == 22
+    # The trunk in the sagittal plane: forward and vertical slides and a pitch hinge.
+    assert [model.joint(j).name for j in range(3)] == ["root_x", "root_z", "root_pitch"]
+    assert types.count(mujoco.mjtJoint.mjJNT_SLIDE) == 2
+    assert types.count(mujoco.mjtJoint.mjJNT_HINGE) == 21 + 1
+    assert model.njnt == 24
+    assert horse_layout().root_dofs == 3
     assert model.nu == 21
     assert all(model.jnt_type[model.actuator_trnid[a, 0]] == mujoco.mjtJoint.mjJNT_HINGE for a in range(21))
 
@@ -181,14 +184,15 @@ def test_stands_still_for_ten_seconds(model: mujoco.MjModel, layout: HorseLayout
     data = mujoco.MjData(model)
     data.ctrl[:] = layout.neutral_ctrl if compensated else 0.0
     mujoco.mj_forward(model, data)
-    start = data.qpos[:3].copy()
+    trunk_pos, trunk_quat = layout.sensors["trunk_pos"], layout.sensors["trunk_quat"]
+    start = data.sensordata[trunk_pos].copy()
     heights, tilts, drifts = [], [], []
     for step in range(round(10.0 / model.opt.timestep)):
         mujoco.mj_step(model, data)
         if step % 10 == 0:
-            heights.append(data.qpos[2])
-            tilts.append(_tilt_deg(data.qpos[3:7]))
-            drifts.append(np.linalg.norm(data.qpos[:2] - start[:2]))
+            heights.append(data.sensordata[trunk_pos][2])
+            tilts.append(_tilt_deg(data.sensordata[trunk_quat]))
+            drifts.append(np.linalg.norm(data.sensordata[trunk_pos][:2] - start[:2]))
     assert np.isfinite(data.qpos).all()
     assert max(abs(h - start[2]) for h in heights) < 0.03
     assert max(tilts) < 5.0

@@ -11,22 +11,52 @@ from typer.testing import CliRunner
 
 from conftest import GRAMMARS, ROOT
 from gaitgram.analysis import check
+from gaitgram.backends.api import GaitStatus
 from gaitgram.backends.mujoco_horse import CATALOGUE
+from gaitgram.backends.mujoco_horse.seed_fit import CHAINS, FootPath, fit_seed
+from gaitgram.backends.registry import get_backend
 from gaitgram.cli import app
 from gaitgram.ge import compile_mapper
 from gaitgram.ge.initialisation import random_tree
 from gaitgram.language import load
 from gaitgram.motion import compile_motion, phase_grid
+from gaitgram.motion.gait import MotionBatch
 from gaitgram.seed import SeedError, build_seed, load_seed, read_seed_csv
 from gaitgram.seed.grammars import Style, seed_genome, write_grammar
 
 runner = CliRunner()
 
 
-def test_shipped_csvs_are_the_built_seed() -> None:
-    built = build_seed().to_csv()
-    assert (ROOT / "seeds" / "horse_walk.csv").read_text() == built
-    assert (ROOT / "gaitgram" / "seed" / "horse_walk.csv").read_text() == built
+def test_shipped_csvs_are_the_seed_fitted_to_the_horse() -> None:
+    """The CSVs are ``fit_seed(build_seed())``, rounded; the optimiser may differ in the last
+    digits between platforms, so the comparison allows a hundredth of a degree."""
+    shipped = (ROOT / "seeds" / "horse_walk.csv").read_text()
+    assert (ROOT / "gaitgram" / "seed" / "horse_walk.csv").read_text() == shipped
+    fitted = fit_seed(build_seed())
+    for joint, values in load_seed().angles.items():
+        np.testing.assert_allclose(values, fitted.angles[joint], atol=0.01, err_msg=joint)
+    recipe = build_seed()
+    for joint in ("neck_proximal", "neck_mid", "neck_atlas"):  # the fit changes only the limbs
+        np.testing.assert_allclose(load_seed().angles[joint], recipe.angles[joint], atol=1e-4)
+
+
+def test_the_seed_walks_forward_on_the_horse() -> None:
+    """Played on the horse, the seed walks forward at a walk's duty factor without falling."""
+    seed = load_seed()
+    samples = np.arange(256) / 256
+    angles = np.array(
+        [np.interp(samples, np.append(seed.phases, 1), np.append(c, c[0])) for c in seed.angles.values()]
+    )
+    batch = MotionBatch(tuple(seed.angles), angles[None], (None,), (None,))
+    evaluator = get_backend("mujoco-horse").load({"threads": 2})
+    try:
+        (result,) = evaluator.evaluate(batch)
+    finally:
+        evaluator.close()
+    assert result.status is GaitStatus.OK, result.detail
+    assert result.components["measured_velocity"] > 0.6
+    assert abs(result.components["measured_duty_factor"] - evaluator.targets.duty_factor) < 0.05
+    assert result.components["measured_stride"] > 0.6  # hooves step: strides from footfalls
 
 
 def test_seed_curves_are_within_joint_limits_with_published_ranges() -> None:
@@ -36,8 +66,11 @@ def test_seed_curves_are_within_joint_limits_with_published_ranges() -> None:
         low, high = CATALOGUE.get(joint).limits
         assert low <= values.min(), joint
         assert values.max() <= high, joint
-    assert np.ptp(seed.angles["carpal_fore"]) == pytest.approx(54, abs=0.1)
-    assert np.ptp(seed.angles["fetlock_hind"]) == pytest.approx(60, abs=0.1)
+    assert np.ptp(seed.angles["neck_proximal"]) == pytest.approx(15, abs=0.1)  # a recipe curve
+    for joint in CHAINS["fore_left"] + CHAINS["hind_left"]:  # fitted with a margin (less filtering)
+        low, high = CATALOGUE.get(joint).limits
+        assert low + FootPath().margin / 2 <= seed.angles[joint].min(), joint
+        assert seed.angles[joint].max() <= high - FootPath().margin / 2, joint
 
 
 @pytest.mark.parametrize("style", list(Style))
@@ -71,16 +104,19 @@ def test_seed_genome_derives_the_seed(style: Style) -> None:
     seed = load_seed()
     for joint, text in mapped.joints.items():
         curve = compile_motion(text).evaluate(phase_grid(100)).values
-        assert np.abs(curve - seed.angles[joint]).max() < 0.9, joint  # only sub-threshold terms missing
+        error = np.abs(curve - seed.angles[joint])  # only sub-threshold terms missing
+        assert error.max() < 3.0, joint
+        assert np.sqrt(np.mean(error**2)) < 1.0, joint
 
 
 def test_seed_fit_cli() -> None:
     result = runner.invoke(app, ["seed", "fit"])
     assert result.exit_code == 0
-    assert "<seed_scapula_fore> ::= 6.97+7.7*sin(1*2*PI*t+1.07)+2.56*sin(2*2*PI*t+2.97)" in result.stdout
+    assert "<seed_neck_atlas> ::= -0.09+3.39*sin(2*2*PI*t-0.31)" in result.stdout  # a recipe curve
     records = [json.loads(line) for line in runner.invoke(app, ["seed", "fit", "--json"]).stdout.splitlines()]
     assert len(records) == 12
-    assert all(r["max_error"] < 0.9 for r in records)
+    # Fitted limb curves have many small harmonics: dropping those under 1 degree costs up to ~2.
+    assert all(r["rms_error"] < 1.0 and r["max_error"] < 3.0 for r in records)
 
 
 @pytest.mark.parametrize(

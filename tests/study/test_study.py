@@ -168,3 +168,17 @@ def test_holm_and_a12_on_known_values() -> None:
     assert holm([0.01, 0.04, 0.03]) == pytest.approx([0.03, 0.06, 0.06])
     assert a12([1, 2], [3, 4]) == 1.0
     assert a12([1, 2], [1, 2]) == 0.5
+
+
+def test_the_bundled_paper_studies_load_at_the_table_1_budget_and_scale_down() -> None:
+    studies = Path(__file__).resolve().parents[2] / "studies"
+    table5 = load_study(studies / "table5.toml")
+    assert [a.name for a in table5.arms] == ["numerical", "concatenating", "hybrid", "free", "sinusoidal"]
+    assert table5.runs == 30
+    assert {(a.config.generations, a.config.population) for a in table5.arms} == {(50, 75)}
+    paper = {"velocity": 1.0, "duty_factor": 1.0, "stride": 1.0, "frequency": 0.0, "energy": 1.0}
+    assert all(a.config.backend_settings["weights"] == paper for a in table5.arms)
+    table4 = load_study(studies / "table4.toml", ScaleDown(generations=10))
+    varying = next(a for a in table4.arms if a.name == "varying-weights")
+    assert [stage.start for stage in varying.config.weight_schedule] == [0, 2, 4, 6, 8]  # 0, 11, ... of 50
+    assert load_study(studies / "table4.toml").arms[1].config.weight_schedule[1].start == 11

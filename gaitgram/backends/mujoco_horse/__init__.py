@@ -11,7 +11,7 @@ from typing import Any
 
 from gaitgram.backends.catalogue import load_catalogue
 from gaitgram.backends.mujoco_horse.settings import WEIGHT_NAMES, HorseSettings
-from gaitgram.backends.mujoco_horse.task import TASK_REVISION
+from gaitgram.backends.mujoco_horse.task import DEFAULT_WEIGHTS, TASK_REVISION, unviable_fitness
 from gaitgram.backends.registry import BackendSpec
 
 CATALOGUE = load_catalogue(files(__name__).joinpath("joints.toml"))
@@ -50,4 +50,7 @@ BACKEND = BackendSpec(
     weight_names=lambda settings: WEIGHT_NAMES,
     runtime_settings=frozenset({"threads"}),
     version=_version(),
+    unviable_fitness=lambda settings, weights: unviable_fitness(
+        weights or settings.get("weights") or DEFAULT_WEIGHTS
+    ),
 )

@@ -40,6 +40,7 @@ from gaitgram.backends.mujoco_horse.task import (
     GaitMetrics,
     GaitTargets,
     fitness_components,
+    is_walk,
     walk_targets,
     weighted_fitness,
 )
@@ -53,6 +54,9 @@ FLIP_COSINE = 0.5
 UNSTABLE_SPEED = 200.0
 #: A hoof is on the ground when its touch sensor reads more than this (N).
 CONTACT_FORCE = 5.0
+#: A hoof's contact starts a new footfall only after this long off the ground (s): contact
+#: chatter within a stance is not a stride.
+TOUCHDOWN_GAP_SECONDS = 0.06
 #: Simulated time between checks for unviable gaits (rounded to whole steps).
 CHUNK_SECONDS = 0.25
 #: Gaits simulated together: bounds the memory of a chunk (controls, records) whatever the population.
@@ -76,6 +80,14 @@ class _Tally:
         self.start_x = np.full(size, np.nan)
         self.end_x = np.full(size, np.nan)
         self.contacts = np.zeros(size, dtype=np.int64)
+        # Footfalls per gait and hoof: the last step in contact (the horse starts standing), and
+        # the scored touchdowns' count, first and last step and hoof x.
+        self.last_contact = np.full((size, len(_HOOVES)), -1, dtype=np.int64)
+        self.touchdowns = np.zeros((size, len(_HOOVES)), dtype=np.int64)
+        self.first_step = np.zeros((size, len(_HOOVES)), dtype=np.int64)
+        self.last_step = np.zeros((size, len(_HOOVES)), dtype=np.int64)
+        self.first_x = np.zeros((size, len(_HOOVES)))
+        self.last_x = np.zeros((size, len(_HOOVES)))
         self.power = np.zeros((size, scored_steps))  # per scored step: sum over actuators of |force x speed|
 
 
@@ -121,8 +133,10 @@ class HorseEvaluator:
         self._trunk_pos = sensors["trunk_pos"]
         self._trunk_quat = sensors["trunk_quat"]
         self._hoof_touch = np.array([sensors[f"hoof_{limb}"].start for limb in _HOOVES])
+        self._hoof_x = np.array([sensors[f"hoof_pos_{limb}"].start for limb in _HOOVES])
+        self._gap_steps = max(1, round(TOUCHDOWN_GAP_SECONDS / self.dt))
         nq, nv = self.model.nq, self.model.nv
-        self._hinge_vel = slice(1 + nq + 6, 1 + nq + nv)  # joint speeds in a state vector
+        self._hinge_vel = slice(1 + nq + self.layout.root_dofs, 1 + nq + nv)  # joint speeds in a state vector
         self._act_q = 1 + np.asarray(self.layout.actuator_qpos)
         self._act_v = 1 + nq + np.asarray(self.layout.actuator_dof)
 
@@ -428,6 +442,7 @@ class HorseEvaluator:
         last = first + state.shape[1]
         ramp = self.ramp_steps
         trunk_x = sensors[:, :, self._trunk_pos.start]
+        self._footfalls(tally, gaits, first, sensors)  # every chunk: contacts in the ramp carry over
         if first <= ramp < last:
             tally.start_x[gaits] = trunk_x[:, ramp - first]
         if last == self.nstep:
@@ -438,6 +453,7 @@ class HorseEvaluator:
         scored = slice(begin - first, last - first)
         touches = sensors[:, scored][:, :, self._hoof_touch]
         tally.contacts[gaits] += np.count_nonzero(touches > CONTACT_FORCE, axis=(1, 2))
+
         # Actuator power: |force x joint speed| per step, from the position servos' law.
         model = self.model
         act_q = state[:, scored][:, :, self._act_q]
@@ -454,6 +470,47 @@ class HorseEvaluator:
             np.abs(force, out=force)
             tally.power[gaits, begin - ramp : last - ramp] = force.sum(axis=2)
 
+    def _footfalls(self, tally: _Tally, gaits: np.ndarray, first: int, sensors: np.ndarray) -> None:
+        """Count touchdowns in the scored steps of a chunk: a hoof's contact that starts after at
+        least ``_gap_steps`` off the ground. Integer steps and recorded positions only, carried
+        between chunks, so that the chunk length cannot change them."""
+        steps = sensors.shape[1]
+        step = np.arange(first, first + steps)[None, :, None]
+        contact = sensors[:, :, self._hoof_touch] > CONTACT_FORCE  # [gaits, steps, hooves]
+        carried = tally.last_contact[gaits][:, None, :]
+        latest = np.maximum(np.maximum.accumulate(np.where(contact, step, -1), axis=1), carried)
+        before = np.concatenate([carried, latest[:, :-1]], axis=1)  # last contact before each step
+        touchdown = contact & (step - before > self._gap_steps) & (step >= self.ramp_steps)
+        tally.last_contact[gaits] = latest[:, -1]
+        count = touchdown.sum(axis=1)  # [gaits, hooves]
+        if not count.any():
+            return
+        hoof_x = sensors[:, :, self._hoof_x]
+        firsts = touchdown.argmax(axis=1)
+        lasts = steps - 1 - touchdown[:, ::-1].argmax(axis=1)
+        rows, hooves = np.nonzero(count)
+        new = tally.touchdowns[gaits[rows], hooves] == 0
+        at_first = firsts[rows, hooves]
+        at_last = lasts[rows, hooves]
+        g_new, h_new = gaits[rows[new]], hooves[new]
+        tally.first_step[g_new, h_new] = first + at_first[new]
+        tally.first_x[g_new, h_new] = hoof_x[rows[new], at_first[new], hooves[new]]
+        tally.last_step[gaits[rows], hooves] = first + at_last
+        tally.last_x[gaits[rows], hooves] = hoof_x[rows, at_last, hooves]
+        tally.touchdowns[gaits] += count
+
+    def _strides(self, tally: _Tally) -> tuple[np.ndarray, np.ndarray]:
+        """Per gait, the mean over hooves of stride length (m) and stride frequency (Hz) between
+        successive touchdowns; a hoof with fewer than two touchdowns took no measurable stride
+        and counts as 0 for both."""
+        strides = tally.touchdowns - 1
+        stepped = strides > 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            length = np.where(stepped, (tally.last_x - tally.first_x) / strides, 0.0)
+            period = (tally.last_step - tally.first_step) * self.dt / strides
+            frequency = np.where(stepped, 1.0 / period, 0.0)
+        return length.mean(axis=1), frequency.mean(axis=1)
+
     def _verdicts(self, tally: _Tally, weights: Mapping[str, float]) -> list[Evaluation]:
         """Each gait's evaluation: its first failure, or its measures scored."""
         seconds = self.scored_steps * self.dt
@@ -462,14 +519,17 @@ class HorseEvaluator:
             duty = tally.contacts / (len(_HOOVES) * self.scored_steps)
             # Per-step sums, then over the steps in order: the same additions for any chunk length.
             work = tally.power.sum(axis=1) * self.dt / self.settings.cycles
+        length, frequency = self._strides(tally)
         return [
-            tally.failures.get(g) or self._judge(self._metrics(velocity[g], duty[g], work[g]), weights)
+            tally.failures.get(g)
+            or self._judge(
+                GaitMetrics(
+                    float(velocity[g]), float(duty[g]), float(length[g]), float(frequency[g]), float(work[g])
+                ),
+                weights,
+            )
             for g in range(len(velocity))
         ]
-
-    def _metrics(self, velocity: float, duty: float, work: float) -> GaitMetrics:
-        """What the simulation measured, from the accumulated measures (the one place to change one)."""
-        return GaitMetrics(float(velocity), float(duty), float(velocity * self.period), float(work))
 
     def _judge(self, metrics: GaitMetrics, weights: Mapping[str, float]) -> Evaluation:
         """Score measured metrics; any non-finite measure, component or fitness is not a score."""
@@ -478,6 +538,7 @@ class HorseEvaluator:
             "measured_velocity": metrics.velocity,
             "measured_duty_factor": metrics.duty_factor,
             "measured_stride": metrics.stride_length,
+            "measured_frequency": metrics.stride_frequency,
             "measured_work": metrics.work_per_cycle,
         }
         fitness = weighted_fitness(components, weights)
@@ -485,7 +546,9 @@ class HorseEvaluator:
         bad = [f"{name} = {value}" for name, value in values.items() if not math.isfinite(value)]
         if bad:
             return Evaluation.unviable(GaitStatus.NON_FINITE, f"non-finite {', '.join(bad)}")
-        return Evaluation(min(fitness, WORST_FITNESS), GaitStatus.OK, {**components, **measured})
+        walk = float(is_walk(metrics, self.targets))  # reported, never weighted
+        components = {**components, **measured, "walk": walk}
+        return Evaluation(min(fitness, WORST_FITNESS), GaitStatus.OK, components)
 
     def close(self) -> None:
         if self._pool is not None:

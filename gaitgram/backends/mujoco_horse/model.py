@@ -108,6 +108,7 @@ class HorseLayout:
     #: the settled standing pose: qpos with the trunk over the origin, at rest
     stand_qpos: np.ndarray
     standing_height: float  # trunk centre above the ground, standing (m)
+    root_dofs: int  # degrees of freedom of the trunk (x, z, pitch), before the hinges in qvel
     hip_height: float  # hip (coxofemoral) joint above the ground, standing: h of the Froude number (m)
     total_mass: float  # kg
     timestep: float  # s
@@ -139,7 +140,7 @@ def _stand(model: mujoco.MjModel, act_qpos: np.ndarray) -> tuple[np.ndarray, np.
     mujoco.mj_resetData(model, data)
     _settle(model, data, ctrl, 3.0)
     qpos = data.qpos.copy()
-    qpos[0:2] = 0.0  # over the origin; height and orientation as settled
+    qpos[model.jnt_qposadr[_id(model, mujoco.mjtObj.mjOBJ_JOINT, "root_x")]] = 0.0  # over the origin
     return ctrl, qpos
 
 
@@ -187,6 +188,7 @@ def build_layout(model: mujoco.MjModel, catalogue: JointCatalogue = CATALOGUE) -
     data.qpos[:] = stand_qpos
     mujoco.mj_kinematics(model, data)
     hip = _id(model, obj.mjOBJ_JOINT, "hip_hind_left")
+    trunk = _id(model, obj.mjOBJ_BODY, "trunk")
     return HorseLayout(
         curves=curves,
         curve_actuators=MappingProxyType(curve_actuators),
@@ -203,14 +205,15 @@ def build_layout(model: mujoco.MjModel, catalogue: JointCatalogue = CATALOGUE) -
         ctrl_high=_frozen(model.actuator_ctrlrange[:, 1]),
         hoof_geoms=MappingProxyType({limb: _id(model, obj.mjOBJ_GEOM, f"hoof_{limb}") for limb in LIMBS}),
         hoof_touch=MappingProxyType({limb: sensors[f"hoof_{limb}"].start for limb in LIMBS}),
-        trunk_body=_id(model, obj.mjOBJ_BODY, "trunk"),
+        trunk_body=trunk,
         trunk_geom=_id(model, obj.mjOBJ_GEOM, "trunk"),
         head_geom=_id(model, obj.mjOBJ_GEOM, "head"),
         floor_geom=_id(model, obj.mjOBJ_GEOM, "floor"),
         sensors=MappingProxyType(sensors),
         neutral_ctrl=_frozen(ctrl),
         stand_qpos=_frozen(stand_qpos),
-        standing_height=float(stand_qpos[2]),
+        standing_height=float(data.xpos[trunk][2]),
+        root_dofs=int(model.body_dofnum[trunk]),
         hip_height=float(data.xanchor[hip][2]),
         total_mass=float(model.body_subtreemass[0]),
         timestep=float(model.opt.timestep),

@@ -25,7 +25,7 @@ G = 9.81
 
 #: Bumped whenever a gait could score differently (targets, metrics, formula): runs record it, and
 #: a run scored under another revision is not resumed.
-TASK_REVISION = 1
+TASK_REVISION = 2  # 2: strides from footfalls, capped components, finite unviable score, walk
 
 #: (sqrt(Fr'), duty factor) read from Alexander & Jayes (1983).
 DUTY_FACTOR_POINTS = ((0.0, 0.75), (0.45, 0.65), (0.7, 0.55), (1.0, 0.45), (1.6, 0.35), (2.5, 0.27))
@@ -37,7 +37,23 @@ WALK_PHASE_OFFSETS = {"hind_left": 0.0, "fore_left": 0.25, "hind_right": 0.5, "f
 DEFAULT_FROUDE = 0.48
 
 #: Default fitness weights: errors relative to the prediction, energy as a cost of transport.
-DEFAULT_WEIGHTS = {"velocity": 1.0, "duty_factor": 1.0, "stride": 1.0, "energy": 0.1}
+#: ``frequency`` is measured and reported but not scored by default: the paper imposes it.
+DEFAULT_WEIGHTS = {"velocity": 1.0, "duty_factor": 1.0, "stride": 1.0, "frequency": 0.0, "energy": 0.1}
+
+#: Table 2 of the paper: every component weighted 1 ("distance" is the velocity term).
+PAPER_WEIGHTS = {"velocity": 1.0, "duty_factor": 1.0, "stride": 1.0, "frequency": 0.0, "energy": 1.0}
+
+#: No component counts for more than this (500 % error): one absurd measure cannot swamp the rest,
+#: and every viable fitness is at most COMPONENT_CAP x the sum of the weights.
+COMPONENT_CAP = 5.0
+
+#: An unviable gait scores as if every component were at twice the cap: worse than any viable
+#: gait, yet finite, so that averages over a population mean something (docs/fitness.md).
+UNVIABLE_COMPONENT = 2 * COMPONENT_CAP
+
+#: A walk, for the walk rate: speed within 10 % of the target and duty factor within 0.05.
+WALK_SPEED_TOLERANCE = 0.10
+WALK_DUTY_TOLERANCE = 0.05
 
 
 @dataclass(frozen=True)
@@ -78,22 +94,39 @@ def walk_targets(froude: float = DEFAULT_FROUDE, hip_height: float = 1.14) -> Ga
 class GaitMetrics:
     """What the simulation measured over the scored cycles."""
 
-    velocity: float  # mean forward speed, m/s
+    velocity: float  # mean forward speed of the trunk, m/s
     duty_factor: float  # mean over hooves of the share of time on the ground
-    stride_length: float  # forward distance per cycle, m
+    stride_length: float  # mean over hooves of the forward distance between successive touchdowns, m
+    stride_frequency: float  # mean over hooves of 1 / the time between successive touchdowns, Hz
     work_per_cycle: float  # actuator work per cycle, J (positive and negative work both cost)
 
 
 def fitness_components(metrics: GaitMetrics, targets: GaitTargets, mass: float) -> dict[str, float]:
-    """Each component is dimensionless, so weights compare like with like."""
-    return {
+    """Each component is dimensionless, so weights compare like with like; each is capped at
+    :data:`COMPONENT_CAP`."""
+    raw = {
         "velocity": abs(metrics.velocity - targets.velocity) / targets.velocity,
         "duty_factor": abs(metrics.duty_factor - targets.duty_factor) / targets.duty_factor,
         "stride": abs(metrics.stride_length - targets.stride_length) / targets.stride_length,
+        "frequency": abs(metrics.stride_frequency - targets.stride_frequency) / targets.stride_frequency,
         # Cost of transport: work per cycle over the work of lifting the body one stride.
         "energy": metrics.work_per_cycle / (mass * G * targets.stride_length),
     }
+    return {name: min(value, COMPONENT_CAP) for name, value in raw.items()}
+
+
+def is_walk(metrics: GaitMetrics, targets: GaitTargets) -> bool:
+    """The walk-rate criterion: near the target speed and the target duty factor."""
+    return (
+        abs(metrics.velocity - targets.velocity) <= WALK_SPEED_TOLERANCE * targets.velocity
+        and abs(metrics.duty_factor - targets.duty_factor) <= WALK_DUTY_TOLERANCE
+    )
 
 
 def weighted_fitness(components: Mapping[str, float], weights: Mapping[str, float]) -> float:
     return float(sum(weights.get(name, 0.0) * value for name, value in components.items()))
+
+
+def unviable_fitness(weights: Mapping[str, float]) -> float:
+    """The score of a gait that fell, flipped, diverged or could not be built."""
+    return UNVIABLE_COMPONENT * float(sum(weights.values()))
