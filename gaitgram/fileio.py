@@ -5,13 +5,20 @@ Every file gaitgram writes into a run directory goes through
 over it, so a kill at any instant leaves the old file or the new one. The new
 file gets the mode a plain ``open()`` would give it (``0o666`` less the umask),
 not ``mkstemp``'s private ``0o600``.
+
+Files named on the command line (``-o``, and the grammars ``fmt`` rewrites) go
+through :func:`write_output`, which writes what ``open(path, "w")`` would write
+to, but safely; see its docstring for symlinks, hard links and devices.
 """
 
 from __future__ import annotations
 
+import errno
 import os
+import stat
 import tempfile
 from pathlib import Path
+from typing import BinaryIO
 
 
 def current_umask() -> int:
@@ -21,20 +28,146 @@ def current_umask() -> int:
     return mask
 
 
-def write_atomically(path: Path, text: str, *, mode: int | None = None) -> None:
-    """Write ``text`` to ``path`` through a temporary file and a rename.
+def write_atomically(
+    path: Path,
+    text: str | bytes,
+    *,
+    mode: int | None = None,
+    owner: tuple[int, int] | None = None,
+    parents: bool = True,
+) -> None:
+    """Write ``text`` (str as UTF-8, or bytes) to ``path`` through a temporary file and a rename.
 
-    ``mode`` defaults to ``0o666`` less the umask, as for any new file.
+    ``mode`` defaults to ``0o666`` less the umask, as for any new file; ``owner`` is a
+    ``(uid, gid)`` to give the new file where permitted (the group alone if only that is);
+    ``parents=False`` leaves a missing directory an error, as ``open()`` does.
     """
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    if parents:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    temporary = _temporary_copy(path, text.encode("utf-8") if isinstance(text, str) else text)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-            handle.flush()
-            os.fsync(handle.fileno())
+        if owner is not None:  # before the chmod: a chown clears set-id bits
+            _give_owner(temporary, *owner)
         os.chmod(temporary, (0o666 & ~current_umask()) if mode is None else mode)
         os.replace(temporary, path)
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise
+
+
+def write_output(path: Path, data: str | bytes) -> None:
+    """Write a file the user named, where and as ``open(path, "w")`` would, but never half-written.
+
+    - A symlink is followed: its target is rewritten and the link stays a link.
+    - A new file is created atomically with ``0o666`` less the umask; a missing parent
+      directory is an error (a typo should not create directories).
+    - An existing file with one link is replaced atomically, keeping its mode and, where
+      permitted, its owner and group (ACLs and extended attributes are not copied).
+    - An existing file with several hard links is rewritten in its own inode, which a rename
+      would split from its other names: see :func:`_write_in_place` for how that stays safe.
+    - A device, a FIFO, or anything under ``/dev`` or ``/proc`` (``/dev/stdout``) is opened
+      and written: a rename would replace the device node, not write to it.
+    - A directory raises :class:`IsADirectoryError`.
+    """
+    payload = data.encode("utf-8") if isinstance(data, str) else data
+    if _is_stream(path):
+        with open(path, "wb") as handle:
+            handle.write(payload)
+        return
+    target = Path(os.path.realpath(path))  # a dangling link names the file to create, as for open()
+    try:
+        info = target.stat()
+    except FileNotFoundError:
+        write_atomically(target, payload, parents=False)
+        return
+    if stat.S_ISDIR(info.st_mode):
+        raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(path))
+    if not stat.S_ISREG(info.st_mode):
+        with open(target, "wb") as handle:
+            handle.write(payload)
+    elif info.st_nlink > 1:
+        _write_in_place(target, payload, copy=True)
+    else:
+        try:
+            write_atomically(
+                target,
+                payload,
+                mode=stat.S_IMODE(info.st_mode),
+                owner=(info.st_uid, info.st_gid),
+                parents=False,
+            )
+        except PermissionError:
+            # A writable file in a directory we may not create files in: write it as an editor would.
+            if not os.access(target, os.W_OK) or os.access(target.parent, os.W_OK):
+                raise
+            _write_in_place(target, payload, copy=False)
+
+
+def _is_stream(path: Path) -> bool:
+    """``/dev/stdout``, ``/dev/fd/3``, ``/proc/self/fd/1``: names of open streams, not files to replace."""
+    parts = Path(os.path.abspath(path)).parts
+    return os.name == "posix" and len(parts) > 2 and parts[1] in ("dev", "proc")
+
+
+def _temporary_copy(path: Path, payload: bytes) -> str:
+    """``payload`` in a new temporary file beside ``path``, flushed to disk; its name."""
+    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(payload)
+            handle.flush()
+            os.fsync(handle.fileno())
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+    return temporary
+
+
+def _give_owner(path: str, uid: int, gid: int) -> None:
+    """chown where permitted: root gives both, an owner can give one of its own groups, else nothing."""
+    for wanted in ((uid, gid), (-1, gid)):
+        try:
+            os.chown(path, *wanted)
+            return
+        except OSError:
+            continue
+
+
+def _write_in_place(path: Path, payload: bytes, *, copy: bool) -> None:
+    """Overwrite ``path``'s own inode, so hard links keep sharing it, as safely as that can be.
+
+    With ``copy``, the new content is first written and flushed to a temporary file beside
+    it: a full disk or quota fails there, before the file is touched, and if the process
+    dies mid-write that copy survives. If writing the file itself fails, its old content
+    (read just before) is written back; the copy is kept, and named in the error, only if
+    that fails too.
+    """
+    temporary = _temporary_copy(path, payload) if copy else None
+    keep = temporary is not None
+    try:
+        with open(path, "r+b") as handle:
+            original = handle.read()
+            try:
+                _overwrite(handle, payload)
+            except OSError:
+                _overwrite(handle, original)  # it fitted before, so it fits again
+                keep = False
+                raise
+        keep = False
+    except OSError as error:
+        if not keep:
+            raise
+        raise OSError(
+            error.errno, f"{error.strerror}; the new content is kept in {temporary}", str(path)
+        ) from error
+    finally:
+        if temporary is not None and not keep:
+            Path(temporary).unlink(missing_ok=True)
+
+
+def _overwrite(handle: BinaryIO, payload: bytes) -> None:
+    handle.seek(0)
+    handle.write(payload)
+    handle.truncate()
+    handle.flush()
+    os.fsync(handle.fileno())

@@ -22,6 +22,7 @@ from gaitgram.cli import (
     report,
     sample,
     seed,
+    stdout,
     study,
     test,
 )
@@ -52,4 +53,5 @@ app.command("lsp")(lsp.command)
 
 
 def main() -> None:
-    app()
+    """The console script: the app, with standard output's failures reported (see cli/stdout.py)."""
+    stdout.run(app)

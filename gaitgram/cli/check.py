@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
@@ -10,6 +9,7 @@ from typing import Annotated
 import typer
 from rich.console import Console
 
+from gaitgram import jsonio
 from gaitgram.analysis import check
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.cli.output import as_json, effective_severity, human, plural, print_source_error
@@ -59,16 +59,27 @@ def command(
                 out.print(human(diagnostic, source, strict=strict))
 
     if output_format is OutputFormat.JSON:
-        out.out(json.dumps(records, indent=2, ensure_ascii=False))
+        out.out(jsonio.dumps(records, indent=2))
     else:
-        checked = len(files) - unreadable
-        found = [plural(counts[s], s.value) for s in Severity if counts[s]]
-        summary = (
-            f"{', '.join(found)} in {plural(checked, 'file')}" if found else f"{plural(checked, 'file')} OK"
-        )
-        style = "bold red" if counts[Severity.ERROR] else "bold green"
-        err.print(summary, style=style)
+        err.print(_summary(counts, len(files) - unreadable, unreadable), style=_style(counts, unreadable))
     if unreadable:
         raise typer.Exit(2)
     if counts[Severity.ERROR]:
         raise typer.Exit(1)
+
+
+def _summary(counts: dict[Severity, int], checked: int, unreadable: int) -> str:
+    """``1 error, 2 warnings in 3 files; 1 file could not be read``, or ``3 files OK``."""
+    found = [plural(counts[s], s.value) for s in Severity if counts[s]]
+    parts = []
+    if found:
+        parts.append(f"{', '.join(found)} in {plural(checked, 'file')}")
+    elif checked:
+        parts.append(f"{plural(checked, 'file')} OK")
+    if unreadable:
+        parts.append(f"{plural(unreadable, 'file')} could not be read")
+    return "; ".join(parts)
+
+
+def _style(counts: dict[Severity, int], unreadable: int) -> str:
+    return "bold red" if counts[Severity.ERROR] or unreadable else "bold green"

@@ -13,8 +13,15 @@ from rich.console import Console
 from gaitgram.analysis import CheckResult, check
 from gaitgram.cli.output import human, print_source_error
 from gaitgram.extras import MissingExtra, require
+from gaitgram.fileio import write_output
 from gaitgram.language import SourceError, parse
-from gaitgram.language.source import read_source
+from gaitgram.language.source import (
+    MAX_SOURCE_BYTES,
+    describe_os_error,
+    read_bytes,
+    read_limited,
+    read_source,
+)
 
 err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
 
@@ -25,6 +32,26 @@ def require_extra(module: str, purpose: str) -> ModuleType:
         return require(module, purpose)
     except MissingExtra as error:
         err.print(f"error: {error}", style="bold red")
+        raise typer.Exit(2) from None
+
+
+def check_output(path: Path, *, force: bool) -> None:
+    """Refuse, before any work is done, an output that is a directory or an existing file
+    without ``--force`` (a device or FIFO, such as /dev/null, is written to, never replaced)."""
+    if path.is_dir():
+        err.print(f"error: cannot write {path}: is a directory", style="bold red")
+        raise typer.Exit(2)
+    if path.is_file() and not force:
+        err.print(f"error: {path} exists; pass --force to overwrite it", style="bold red")
+        raise typer.Exit(2)
+
+
+def write_or_exit(path: Path, data: str | bytes) -> None:
+    """Write an output file safely (:func:`gaitgram.fileio.write_output`), or say why not and exit 2."""
+    try:
+        write_output(path, data)
+    except OSError as error:
+        err.print(f"error: cannot write {path}: {describe_os_error(error)}", style="bold red")
         raise typer.Exit(2) from None
 
 
@@ -70,15 +97,24 @@ def parse_genome(text: str, origin: str) -> tuple[int, ...]:
 
 
 def read_genome(inline: str | None, file: Path | None) -> tuple[int, ...]:
-    """From ``--genome 1,2,3`` or ``--genome-file PATH`` (``-`` for standard input)."""
+    """From ``--genome 1,2,3`` or ``--genome-file PATH`` (``-`` for standard input), at most 8 MB."""
     if (inline is None) == (file is None):
         raise typer.BadParameter("give exactly one of --genome and --genome-file", param_hint="genome")
     if inline is not None:
         return parse_genome(inline, "--genome")
     assert file is not None
-    if str(file) == "-":
-        return parse_genome(sys.stdin.read(), "<stdin>")
+    name = "<stdin>" if str(file) == "-" else str(file)
     try:
-        return parse_genome(file.read_text(encoding="utf-8"), str(file))
+        if str(file) == "-":
+            data = read_limited(sys.stdin.buffer, name, max_bytes=MAX_SOURCE_BYTES, what="genome")
+        else:
+            data = read_bytes(file, max_bytes=MAX_SOURCE_BYTES, what="genome")
+        text = data.decode("utf-8-sig")
+    except SourceError as error:
+        print_source_error(err, error)
+        raise typer.Exit(2) from None
     except (OSError, UnicodeDecodeError) as error:
-        raise typer.BadParameter(f"{file}: cannot read: {error}", param_hint="--genome-file") from None
+        reason = describe_os_error(error) if isinstance(error, OSError) else "not UTF-8 text"
+        err.print(f"error: cannot read {name}: {reason}", style="bold red")
+        raise typer.Exit(2) from None
+    return parse_genome(text, name)

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from gaitgram.cli.common import err, load_usable
+from gaitgram.cli.common import check_output, err, load_usable, write_or_exit
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.ge import CodonMode, MappingOptions
 from gaitgram.ge.export import to_json, to_ponyge2, to_python
@@ -37,6 +37,8 @@ def command(
     json: portable tables (docs/ge.md); python: a module that maps genomes with no gaitgram
     installed; ponyge2: plain BNF with typed ranges expanded, for PonyGE2 and GEVA.
     """
+    if str(output) != "-":
+        check_output(output, force=force)
     result = load_usable(grammar, parse_defines(defines))
     options = MappingOptions(codons, max_wraps, max_depth)
     if target is Target.JSON:
@@ -48,12 +50,5 @@ def command(
     if str(output) == "-":
         typer.echo(text, nl=False)
         return
-    if output.exists() and not force:
-        err.print(f"error: {output} exists; pass --force to overwrite it", style="bold red")
-        raise typer.Exit(2)
-    try:
-        output.write_text(text, encoding="utf-8")
-    except OSError as error:
-        err.print(f"error: cannot write {output}: {error.strerror or error}", style="bold red")
-        raise typer.Exit(2) from None
+    write_or_exit(output, text)
     err.print(f"wrote {output} ({target.value})")

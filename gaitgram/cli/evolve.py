@@ -191,7 +191,7 @@ def _resume(
         try:
             source = read_source(grammar)
         except SourceError as error:
-            raise fail(str(error)) from None
+            raise fail(f"cannot read {error.path}: {error.message}") from None
     given: RunConfig | None = None
     if config is not None:
         given = load_config(config, flags)

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import difflib
-import os
-import tempfile
 from pathlib import Path
 from typing import Annotated
 
@@ -12,8 +10,9 @@ import typer
 from rich.console import Console
 
 from gaitgram.cli.output import human, plural, print_source_error
+from gaitgram.fileio import write_output
 from gaitgram.language.formatter import FormatError, FormatRefused, format_text
-from gaitgram.language.source import SourceError, read_source
+from gaitgram.language.source import SourceError, describe_os_error, read_source
 
 
 def command(
@@ -32,7 +31,7 @@ def command(
     """
     out = Console(highlight=False, soft_wrap=True, markup=False)
     err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
-    changed = refused = failed = 0
+    changed = unchanged = refused = failed = 0
     for path in files:
         try:
             source = read_source(path)
@@ -53,10 +52,10 @@ def command(
             failed += 1
             err.print(f"error: {error}", style="bold red")
             continue
-        original = path.read_text(encoding="utf-8-sig")
+        original = source.text  # as read: BOM dropped, newlines universal, like the formatter's input
         if formatted == original:
+            unchanged += 1
             continue
-        changed += 1
         if diff:
             lines = difflib.unified_diff(
                 original.splitlines(keepends=True), formatted.splitlines(keepends=True), f"{path}", f"{path}"
@@ -66,33 +65,32 @@ def command(
             err.print(f"would reformat {path}")
         else:
             try:
-                _write_atomically(path, formatted)
+                if not path.is_file():  # a FIFO or /dev/fd/N read fine, but there is no file to rewrite
+                    raise OSError(0, "not a regular file")
+                write_output(path, formatted)
             except OSError as error:
                 failed += 1
-                err.print(f"error: {path}: cannot write: {error.strerror or error}", style="bold red")
+                err.print(f"error: cannot write {path}: {describe_os_error(error)}", style="bold red")
                 continue
             err.print(f"reformatted {path}")
+        changed += 1
 
-    verb = "would be reformatted" if check or diff else "reformatted"
-    err.print(
-        f"{plural(changed, 'file')} {verb}, "
-        f"{plural(len(files) - changed - refused - failed, 'file')} unchanged"
-    )
+    err.print(_summary(changed, unchanged, refused, failed, dry_run=check or diff))
     if failed:
         raise typer.Exit(2)
     if refused or ((check or diff) and changed):
         raise typer.Exit(1)
 
 
-def _write_atomically(path: Path, text: str) -> None:
-    """Write beside the file and rename over it, so a crash never leaves half a grammar."""
-    mode = path.stat().st_mode
-    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as handle:
-            handle.write(text)
-        os.chmod(temporary, mode)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+def _summary(changed: int, unchanged: int, refused: int, failed: int, *, dry_run: bool) -> str:
+    """``2 files reformatted, 1 file unchanged, 1 file with syntax errors, 1 file failed``: every
+    file counted once, in the one group it ended in."""
+    parts = [
+        f"{plural(changed, 'file')} {'would be reformatted' if dry_run else 'reformatted'}",
+        f"{plural(unchanged, 'file')} unchanged",
+    ]
+    if refused:
+        parts.append(f"{plural(refused, 'file')} with syntax errors")
+    if failed:
+        parts.append(f"{plural(failed, 'file')} failed")
+    return ", ".join(parts)

@@ -2,18 +2,18 @@
 
 from __future__ import annotations
 
-import json
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, NoReturn
 
 import typer
 from rich.console import Console
 
+from gaitgram import jsonio
 from gaitgram.cli.common import err, load_usable, read_genome
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper, python_filter
-from gaitgram.ge.visualise import RENDERERS, GraphvizMissing
+from gaitgram.ge.visualise import GraphvizMissing, TreeTooLarge, check_derivation_size, render_tree
 
 
 class TreeFormat(StrEnum):
@@ -42,21 +42,27 @@ def command(
     codon_values = read_genome(genome, genome_file)
     result = load_usable(grammar, parse_defines(defines))
     mapper = compile_mapper(result.grammar, codons=codons, max_wraps=max_wraps, max_depth=max_depth)
+    try:
+        check_derivation_size(mapper.map_fast(codon_values).used_codons, drawn=tree is not None)
+    except TreeTooLarge as refusal:
+        _refuse_tree(refusal, drawn=tree is not None)
     derivation = mapper.map(codon_values)
     if grammar.suffix == ".pybnf" and derivation.phenotype is not None:  # PonyGE2's python mode
         derivation.phenotype = python_filter(derivation.phenotype)
     rendered = None
     if tree is not None:
         try:
-            rendered = RENDERERS[tree.value](derivation)
+            rendered = render_tree(derivation, tree.value)
         except GraphvizMissing as missing:
             err.print(f"error: {missing}", style="bold red")
             raise typer.Exit(2) from None
+        except TreeTooLarge as refusal:
+            _refuse_tree(refusal, drawn=tree is not None)
     if as_json:
         record = derivation.summary()
         if rendered is not None:
             record["tree"] = rendered
-        typer.echo(json.dumps(record, ensure_ascii=False))
+        typer.echo(jsonio.dumps(record))
     else:
         out = Console(highlight=False, soft_wrap=True, markup=False)
         if derivation.valid:
@@ -73,3 +79,9 @@ def command(
             typer.echo(rendered, nl=False)
     if not derivation.valid:
         raise typer.Exit(1)
+
+
+def _refuse_tree(refusal: TreeTooLarge, *, drawn: bool) -> NoReturn:
+    hint = "use a shorter genome, fewer --max-wraps or a --max-depth" + (", or no --tree" if drawn else "")
+    err.print(f"error: {refusal}; {hint}", style="bold red")
+    raise typer.Exit(2)

@@ -70,9 +70,10 @@ def as_json(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False)
 
 
 def print_source_error(console: Console, error: SourceError) -> None:
+    """``error: cannot read PATH: why``, and the hint."""
     out = Text()
     out.append("error", style="bold red")
-    out.append(f": {error.path}: {error.message}\n", style="bold")
+    out.append(f": cannot read {error.path}: {error.message}\n", style="bold")
     if error.hint:
         out.append("  = ", style="blue")
         out.append("hint: ", style="bold")

@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from gaitgram.cli.common import err, load_usable, read_genome, require_extra
+from gaitgram.cli.common import check_output, err, load_usable, read_genome, require_extra, write_or_exit
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper
 
@@ -27,9 +28,7 @@ def command(
     require_extra("matplotlib", "plots")
     if output.suffix.lower() not in (".png", ".svg", ".pdf"):
         raise typer.BadParameter("the output must end in .png, .svg or .pdf", param_hint="--output")
-    if output.exists() and not force:
-        err.print(f"error: {output} exists; pass --force to overwrite it", style="bold red")
-        raise typer.Exit(2)
+    check_output(output, force=force)
     codon_values = read_genome(genome, genome_file)
     checked = load_usable(grammar, parse_defines(defines))
     derivation = compile_mapper(checked.grammar, codons=codons, max_wraps=max_wraps).map(codon_values)
@@ -43,5 +42,7 @@ def command(
     figure = curves_figure(
         joints, derivation.joints, load_seed().angles if seed else None, title=grammar.name
     )
-    figure.savefig(output, dpi=110)
+    image = io.BytesIO()
+    figure.savefig(image, format=output.suffix.lower()[1:], dpi=110)
+    write_or_exit(output, image.getvalue())
     err.print(f"wrote {output}")

@@ -2,17 +2,25 @@
 
 from __future__ import annotations
 
-import json
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated
 
 import numpy as np
 import typer
 
+from gaitgram import jsonio
+from gaitgram.analysis.facts import GrammarFacts
 from gaitgram.cli.common import err, load_usable
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper
-from gaitgram.ge.initialisation import InitialisationError, Method, ramped_population, random_tree
+from gaitgram.ge.initialisation import (
+    GeneratedTree,
+    InitialisationError,
+    Method,
+    ramped_population,
+    random_tree,
+)
 
 
 def command(
@@ -32,28 +40,49 @@ def command(
     """Print random derivations (phenotypes), made by the same initialisation evolution uses."""
     result = load_usable(grammar, parse_defines(defines))
     rng = np.random.default_rng(seed)
+    mapper = compile_mapper(result.grammar, codons=codons, max_wraps=0)
     try:
-        if method is Method.RAMPED:
-            trees = ramped_population(result.facts, rng, count, max_depth=max_depth, codons=codons, tail=0)
-        else:
-            trees = [
-                random_tree(result.facts, rng, max_depth=max_depth, method=method, codons=codons, tail=0)
-                for _ in range(count)
-            ]
+        for tree in _trees(result.facts, rng, count, method, max_depth, codons):
+            mapped = mapper.map_fast(tree.genome)
+            if as_json:
+                record = {
+                    "phenotype": mapped.phenotype,
+                    "genome": list(tree.genome),
+                    "depth": tree.depth,
+                    "method": tree.method.value,
+                    "joints": mapped.joints,
+                }
+                typer.echo(jsonio.dumps(record))
+            else:
+                typer.echo(mapped.phenotype)
     except InitialisationError as error:
         err.print(f"error: {error}", style="bold red")
         raise typer.Exit(1) from None
-    mapper = compile_mapper(result.grammar, codons=codons, max_wraps=0)
-    for tree in trees:
-        mapped = mapper.map_fast(tree.genome)
-        if as_json:
-            record = {
-                "phenotype": mapped.phenotype,
-                "genome": list(tree.genome),
-                "depth": tree.depth,
-                "method": tree.method.value,
-                "joints": mapped.joints,
-            }
-            typer.echo(json.dumps(record, ensure_ascii=False))
-        else:
-            typer.echo(mapped.phenotype)
+
+
+def _trees(
+    facts: GrammarFacts,
+    rng: np.random.Generator,
+    count: int,
+    method: Method,
+    max_depth: int,
+    codons: CodonMode,
+) -> Iterator[GeneratedTree]:
+    """The trees one at a time, so each is printed as it is made and ``-n`` costs no memory.
+
+    The same trees, from the same random draws, as ``ramped_population(count)`` (or ``count``
+    calls of ``random_tree``): a ramp's i-th tree is the first tree of a ramp starting at the
+    i-th depth.
+    """
+    if method is not Method.RAMPED:
+        for _ in range(count):
+            yield random_tree(facts, rng, max_depth=max_depth, method=method, codons=codons, tail=0)
+        return
+    start = facts.cfg.start
+    shortest = (facts.min_depth[start] if start is not None else None) or 1
+    ramp = max(1, max_depth - shortest + 1)  # ramped_population itself refuses a ramp that is empty
+    for i in range(count):
+        (tree,) = ramped_population(
+            facts, rng, 1, max_depth=max_depth, min_depth=shortest + i % ramp, codons=codons, tail=0
+        )
+        yield tree

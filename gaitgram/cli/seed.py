@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Annotated
 
 import typer
 from rich.console import Console
 
-from gaitgram.cli.common import err
+from gaitgram import jsonio
+from gaitgram.cli.common import check_output, err, write_or_exit
 from gaitgram.seed import SeedError, load_seed, read_seed_csv
 from gaitgram.seed.grammars import Style, fit_seed, write_grammar
 
@@ -46,7 +46,7 @@ def fit(
     for joint, result in fits.items():
         if as_json:
             out.out(
-                json.dumps(
+                jsonio.dumps(
                     {
                         "joint": joint,
                         "text": result.text,
@@ -78,6 +78,8 @@ def grammar(
     force: Annotated[bool, typer.Option("--force", help="Overwrite OUTPUT.")] = False,
 ) -> None:
     """Write a grammar from the seed in one of the paper's styles."""
+    if output is not None:
+        check_output(output, force=force)
     seed = _seed(seed_csv)
     command = f"gaitgram seed grammar --style {style.value}" + (f" -o {output}" if output else "")
     try:
@@ -88,8 +90,5 @@ def grammar(
     if output is None:
         typer.echo(text, nl=False)
         return
-    if output.exists() and not force:
-        err.print(f"error: {output} exists; pass --force to overwrite it", style="bold red")
-        raise typer.Exit(2)
-    output.write_text(text, encoding="utf-8")
+    write_or_exit(output, text)
     err.print(f"wrote {output}")

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import importlib.util
 import inspect
-import json
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated, Any
@@ -14,6 +13,7 @@ from hypothesis import HealthCheck, given, seed, settings
 from rich.console import Console
 from rich.text import Text
 
+from gaitgram import jsonio
 from gaitgram.cli.common import err, load_usable
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper
@@ -65,7 +65,7 @@ def command(
         raise typer.Exit(1) from None
     results = [_run(name, check, strategy, context, examples, seed_value) for name, check in chosen.items()]
     if output_format is OutputFormat.JSON:
-        typer.echo(json.dumps(results, indent=1))
+        typer.echo(jsonio.dumps(results, indent=1))
     else:
         out = Console(highlight=False, soft_wrap=True)
         for result in results:

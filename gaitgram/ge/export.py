@@ -7,10 +7,9 @@ in each. The formats are documented in ``docs/ge.md``.
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
-from gaitgram import __version__
+from gaitgram import __version__, jsonio
 from gaitgram.analysis.cfg import Cfg, RuleKind, build_cfg
 from gaitgram.ge.mapper import MappingOptions
 from gaitgram.language.model import Grammar
@@ -52,7 +51,7 @@ def mapper_tables(grammar: Grammar, options: MappingOptions, cfg: Cfg | None = N
 
 
 def to_json(grammar: Grammar, options: MappingOptions) -> str:
-    return json.dumps(mapper_tables(grammar, options), indent=1, ensure_ascii=False) + "\n"
+    return jsonio.dumps(mapper_tables(grammar, options), indent=1) + "\n"
 
 
 _PYTHON_TEMPLATE = '''\

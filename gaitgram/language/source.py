@@ -6,9 +6,12 @@ demand, so the parser does no position bookkeeping per token.
 
 from __future__ import annotations
 
+import os
+import stat
 from bisect import bisect_right
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import BinaryIO
 
 
 @dataclass(slots=True, order=True, unsafe_hash=True)
@@ -110,30 +113,82 @@ class SourceError(Exception):
 
 #: Real grammars are kilobytes; past this we refuse rather than make the user wait.
 MAX_SOURCE_BYTES = 8 * 1024 * 1024
+_CHUNK = 1024 * 1024
+
+#: What each kind of non-file is called when it is refused: reading one is endless (/dev/zero),
+#: has side effects (a tape, a terminal) or is a mistake (a disk).
+_NOT_FILES = {
+    stat.S_IFCHR: "a character device",
+    stat.S_IFBLK: "a block device",
+    stat.S_IFSOCK: "a socket",
+}
 
 
 def read_source(path: str | Path, *, max_bytes: int = MAX_SOURCE_BYTES) -> SourceText:
     """Read a grammar file, turning every way it can fail into a :class:`SourceError`."""
+    return decode_source(read_bytes(path, max_bytes=max_bytes), str(path))
+
+
+def read_bytes(path: str | Path, *, max_bytes: int = MAX_SOURCE_BYTES, what: str = "grammar") -> bytes:
+    """The bytes of a regular file or a FIFO, never more than ``max_bytes``; else a :class:`SourceError`.
+
+    The size is checked from ``stat`` first (for the message), but the read itself stops
+    at ``max_bytes + 1`` whatever ``stat`` said: a pipe, a ``/proc`` file or a file still
+    growing has no honest size. Devices are refused before they are opened.
+    """
     name = str(path)
-    p = Path(path)
     try:
-        if p.is_dir():
-            raise SourceError(name, "is a directory", "pass the .gg files inside it")
-        size = p.stat().st_size
-        if size > max_bytes:
-            raise SourceError(
-                name,
-                f"is {size / 1e6:.1f} MB; grammars over {max_bytes / 1e6:.1f} MB are refused",
-                "is this really a grammar file?",
-            )
-        data = p.read_bytes()
+        kind = stat.S_IFMT(os.stat(path).st_mode)
+        _refuse_non_files(name, kind, what)
+        with open(path, "rb", buffering=0) as handle:
+            info = os.fstat(handle.fileno())  # what was opened, if it changed since the stat
+            _refuse_non_files(name, stat.S_IFMT(info.st_mode), what)
+            if stat.S_ISREG(info.st_mode) and info.st_size > max_bytes:
+                raise SourceError(
+                    name,
+                    f"is {info.st_size / 1e6:.1f} MB; {what}s over {max_bytes / 1e6:.1f} MB are refused",
+                    f"is this really a {what} file?",
+                )
+            return read_limited(handle, name, max_bytes=max_bytes, what=what)
     except FileNotFoundError:
         raise SourceError(name, "no such file") from None
     except PermissionError:
         raise SourceError(name, "permission denied") from None
     except OSError as exc:
-        raise SourceError(name, exc.strerror or str(exc)) from None
-    return decode_source(data, name)
+        raise SourceError(name, describe_os_error(exc)) from None
+
+
+def read_limited(
+    handle: BinaryIO, name: str, *, max_bytes: int = MAX_SOURCE_BYTES, what: str = "grammar"
+) -> bytes:
+    """Read an open binary stream (a file, a pipe, standard input) to its end, in chunks,
+    refusing it as soon as it passes ``max_bytes``."""
+    chunks: list[bytes] = []
+    total = 0
+    while total <= max_bytes:
+        chunk = handle.read(min(_CHUNK, max_bytes + 1 - total))
+        if not chunk:
+            return b"".join(chunks)
+        chunks.append(chunk)
+        total += len(chunk)
+    raise SourceError(
+        name,
+        f"is over {max_bytes / 1e6:.1f} MB; {what}s over {max_bytes / 1e6:.1f} MB are refused",
+        f"is this really a {what} file?",
+    )
+
+
+def _refuse_non_files(name: str, kind: int, what: str) -> None:
+    if kind == stat.S_IFDIR:
+        raise SourceError(name, "is a directory", f"pass the {what} files inside it")
+    if kind in _NOT_FILES:
+        raise SourceError(name, f"is {_NOT_FILES[kind]}, not a file", f"give the path of a {what} file")
+
+
+def describe_os_error(error: OSError) -> str:
+    """``No space left on device`` as ``no space left on device``, to read as part of a sentence."""
+    reason = error.strerror or str(error) or type(error).__name__
+    return reason[:1].lower() + reason[1:]
 
 
 def decode_source(data: bytes, name: str = "<bytes>") -> SourceText:

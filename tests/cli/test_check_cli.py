@@ -138,8 +138,8 @@ def test_directories_and_huge_files_get_clear_errors(tmp_path: Path) -> None:
     huge.write_bytes(b"<a> ::= x\n" * (1024 * 1024))  # 10 MB
     result = runner.invoke(app, ["check", str(huge), str(tmp_path)])
     assert result.exit_code == 2
-    assert f"error: {huge}: is 10.5 MB; grammars over 8.4 MB are refused" in result.stderr
-    assert f"error: {tmp_path}: is a directory" in result.stderr
+    assert f"error: cannot read {huge}: is 10.5 MB; grammars over 8.4 MB are refused" in result.stderr
+    assert f"error: cannot read {tmp_path}: is a directory" in result.stderr
 
 
 def test_console_script_runs_as_a_module(broken: Path) -> None:
