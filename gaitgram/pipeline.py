@@ -95,6 +95,7 @@ class Pipeline:
         config = replace(config, backend=name, backend_settings=settings)
         _check_weights(config, spec)
         _check_joints(grammar, spec)
+        _check_frequency(grammar, spec)
         _check_depths(checked.facts, config)
         try:
             mapper = compile_mapper(
@@ -147,7 +148,16 @@ class Pipeline:
             units=self.grammar.units,
             n_samples=self.config.samples,
             frozen=self.frozen_at(generation),
+            frequency=self.frequency_limits,
         )
+
+    @property
+    def frequency_limits(self) -> tuple[float, float] | None:
+        """The cycle frequencies (Hz) a gait may have, if the grammar evolves its frequency."""
+        decl = self.grammar.frequency
+        if decl is None:
+            return None
+        return decl.limits or self.spec.cycle_frequencies
 
     def evaluate(
         self, genomes: Sequence[Sequence[int]], evaluator: Evaluator, generation: int
@@ -267,6 +277,24 @@ def _check_joints(grammar: Grammar, spec: BackendSpec) -> None:
         raise PipelineError(
             f"backend {spec.name!r} has no joint {', '.join(map(repr, missing))}; the grammar was written "
             f"for {grammar.backend or 'another backend'!s}; its joints: {', '.join(spec.catalogue.names)}"
+        )
+
+
+def _check_frequency(grammar: Grammar, spec: BackendSpec) -> None:
+    decl = grammar.frequency
+    if decl is None:
+        return
+    if spec.cycle_frequencies is None:
+        raise PipelineError(
+            f"backend {spec.name!r} imposes the cycle frequency, so the grammar's @frequency rule "
+            f"<{decl.rule}> would change nothing; remove it, or use a backend that plays evolved "
+            "frequencies (mujoco-horse)"
+        )
+    low, high = spec.cycle_frequencies
+    if decl.limits is not None and not (low <= decl.limits[0] and decl.limits[1] <= high):
+        raise PipelineError(
+            f"@frequency limits={decl.limits[0]:g}..{decl.limits[1]:g} reach beyond the "
+            f"{low:g}..{high:g} Hz backend {spec.name!r} can play; narrow them"
         )
 
 

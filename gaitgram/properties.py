@@ -7,6 +7,7 @@ functions named ``property_*`` with the same signature (``gaitgram test --proper
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -14,8 +15,9 @@ import numpy as np
 
 from gaitgram.ge import Derivation
 from gaitgram.ge.mapper import Mapper
-from gaitgram.language.model import Grammar
+from gaitgram.language.model import FREQUENCY, Grammar
 from gaitgram.motion.expression import Motion, compile_motion, phase_grid
+from gaitgram.motion.gait import cycle_frequency
 
 
 class PropertyFailed(AssertionError):
@@ -94,6 +96,17 @@ def curves_within_limits(derivation: Derivation, context: Context) -> None:
             )
 
 
+def frequency_valid(derivation: Derivation, context: Context) -> None:
+    """A @frequency rule derives a constant, finite frequency within its limits."""
+    decl = context.grammar.frequency
+    if decl is None:
+        return
+    limits = decl.limits or (0.0, math.inf)
+    _, problem, detail = cycle_frequency(derivation.joints.get(FREQUENCY), limits)
+    if problem is not None:
+        raise PropertyFailed(str(detail))
+
+
 BUILT_IN: dict[str, Property] = {
     "maps-cleanly": maps_cleanly,
     "deterministic": is_deterministic,
@@ -101,6 +114,7 @@ BUILT_IN: dict[str, Property] = {
     "joints-compile": joints_compile,
     "curves-finite": curves_finite,
     "curves-within-limits": curves_within_limits,
+    "frequency-valid": frequency_valid,
 }
 
 

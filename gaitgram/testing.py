@@ -29,7 +29,7 @@ from hypothesis import strategies as st
 from gaitgram.analysis import GrammarFacts, analyse
 from gaitgram.ge import CodonMode, Derivation, compile_mapper
 from gaitgram.ge.mapper import Mapper
-from gaitgram.language.model import Grammar
+from gaitgram.language.model import FREQUENCY, Grammar
 from gaitgram.motion.gait import sampled_curve
 
 __all__ = ["derivations", "genomes", "motions", "phenotypes"]
@@ -118,6 +118,8 @@ def motions(
     def curves(derivation: Derivation) -> Mapping[str, np.ndarray]:
         result = {}
         for joint, text in derivation.joints.items():
+            if joint == FREQUENCY:  # a number, not a curve
+                continue
             values, problem, _ = sampled_curve(text, samples)
             result[joint] = np.full(samples, np.nan) if problem is not None else values
         return result

@@ -48,6 +48,10 @@ class BackendSpec:
       cannot be scored (fell, diverged, invalid), under the weights in force
       (None: the backend's own); it must be worse than any viable score. Without
       it such gaits score ``WORST_FITNESS`` and population averages mean little.
+    * ``cycle_frequencies`` is the range (Hz) of gait cycle frequencies the
+      evaluator can play, for grammars that evolve the frequency with a
+      ``@frequency`` rule (``MotionBatch.frequencies``); None: the backend imposes
+      its own, and such grammars are refused.
     """
 
     name: str
@@ -59,6 +63,7 @@ class BackendSpec:
     runtime_settings: frozenset[str] = field(default_factory=frozenset)
     version: str = ""
     unviable_fitness: Callable[[Mapping[str, Any], Mapping[str, float] | None], float] | None = None
+    cycle_frequencies: tuple[float, float] | None = None
 
     def checked_settings(self, settings: Mapping[str, Any]) -> dict[str, Any]:
         """``settings`` checked and normalised; :class:`SettingsError` names the bad key."""

@@ -11,7 +11,7 @@ from rich.console import Console
 from gaitgram import jsonio
 from gaitgram.cli.common import check_output, err, write_or_exit
 from gaitgram.seed import SeedError, load_seed, read_seed_csv
-from gaitgram.seed.grammars import Style, fit_seed, write_grammar
+from gaitgram.seed.grammars import TARGET_FREQUENCY, Style, fit_seed, write_grammar
 
 app = typer.Typer(
     rich_markup_mode=None,  # help text is plain: brackets, as in pip extras, are kept
@@ -76,14 +76,26 @@ def grammar(
         float, typer.Option(min=0, help="Fourier terms under this amplitude are dropped.")
     ] = 1.0,
     force: Annotated[bool, typer.Option("--force", help="Overwrite OUTPUT.")] = False,
+    imposed_frequency: Annotated[
+        bool,
+        typer.Option(
+            "--imposed-frequency",
+            help="Leave out the @frequency rule: the backend imposes the stride frequency, as in the paper.",
+        ),
+    ] = False,
 ) -> None:
     """Write a grammar from the seed in one of the paper's styles."""
     if output is not None:
         check_output(output, force=force)
     seed = _seed(seed_csv)
-    command = f"gaitgram seed grammar --style {style.value}" + (f" -o {output}" if output else "")
+    command = (
+        f"gaitgram seed grammar --style {style.value}"
+        + (" --imposed-frequency" if imposed_frequency else "")
+        + (f" -o {output}" if output else "")
+    )
+    frequency = None if imposed_frequency else TARGET_FREQUENCY
     try:
-        text = write_grammar(style, seed, threshold=threshold, command=command)
+        text = write_grammar(style, seed, threshold=threshold, command=command, frequency=frequency)
     except ValueError as error:  # a seed whose curves leave the style no room within the limits
         err.print(f"error: {error}", style="bold red")
         raise typer.Exit(2) from None

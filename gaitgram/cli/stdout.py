@@ -41,6 +41,8 @@ class _GuardedOutput(io.TextIOWrapper):
             raise OutputFailed(error) from error
 
     def flush(self) -> None:
+        if self.closed:  # closed by whoever owned it (the language server, on exit): nothing to flush
+            return
         try:
             super().flush()
         except OSError as error:

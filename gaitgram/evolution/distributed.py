@@ -129,7 +129,4 @@ class DaskEvaluator:
 
 
 def _slice(batch: MotionBatch, indices: np.ndarray) -> MotionBatch:
-    start, stop = int(indices[0]), int(indices[-1]) + 1
-    return MotionBatch(
-        batch.joints, batch.angles[start:stop], batch.problems[start:stop], batch.details[start:stop]
-    )
+    return batch.rows(int(indices[0]), int(indices[-1]) + 1)

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 from gaitgram import jsonio
 from gaitgram.fileio import write_atomically
 from gaitgram.ge.visualise import ascii_tree
+from gaitgram.language.model import FREQUENCY
 from gaitgram.motion.gait import motion_batch
 
 if TYPE_CHECKING:
@@ -58,7 +59,7 @@ CURVE_SAMPLES = 64
 
 def _curves(pipeline: Pipeline, best: Individual, generation: int) -> dict[str, list[float] | None]:
     """The grammar's joints through the same unit conversion and freedom schedule as scoring."""
-    joints = tuple(best.joints)
+    joints = tuple(j for j in best.joints if j != FREQUENCY)
     batch = motion_batch(
         [best.joints if best.phenotype is not None else None],
         joints,

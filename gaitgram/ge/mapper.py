@@ -33,7 +33,7 @@ from typing import Any, NamedTuple
 
 from gaitgram.analysis.cfg import Cfg, Item, RuleKind, build_cfg
 from gaitgram.ge.derivation import Derivation, InvalidReason, Node
-from gaitgram.language.model import Grammar
+from gaitgram.language.model import FREQUENCY, Grammar
 
 __all__ = [
     "CodonMode",
@@ -134,7 +134,9 @@ def compile_mapper(
     """Compile a grammar (or its :class:`Cfg`) into a :class:`Mapper`.
 
     ``joints`` (joint name -> rule name) defaults to the grammar's ``@joint``
-    declarations; pass it to get joint phenotypes from a bare ``Cfg``.
+    declarations, and its ``@frequency`` rule under the key ``"@frequency"``
+    (:data:`~gaitgram.language.model.FREQUENCY`); pass it to get joint phenotypes
+    from a bare ``Cfg``.
 
     A grammar that carries an error diagnostic (a syntax error, a malformed
     range or annotation: the text does not say what it means) raises
@@ -156,6 +158,8 @@ def compile_mapper(
         cfg = build_cfg(source)
         if joints is None:
             joints = {decl.joint: decl.rule for decl in source.joints}
+            if source.frequency is not None:
+                joints[FREQUENCY] = source.frequency.rule
     else:
         cfg = source
     return Mapper(cfg, options, joints)

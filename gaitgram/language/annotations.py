@@ -115,6 +115,14 @@ ANNOTATIONS: dict[str, AnnotationKind] = {
                 ),
             ),
         ),
+        AnnotationKind(
+            "frequency",
+            Target.RULE,
+            "The next rule derives the gait cycle's frequency in Hz (a constant expression), "
+            "which then evolves instead of being imposed by the backend.",
+            "@frequency limits=0.6..1.9",
+            (Parameter("limits", ValueType.INTERVAL, "the frequencies (Hz) a gait may have, lo..hi"),),
+        ),
     )
 }
 

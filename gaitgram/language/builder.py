@@ -29,6 +29,7 @@ from gaitgram.language.model import (
     Annotation,
     Argument,
     ArgumentValue,
+    FrequencyDecl,
     Grammar,
     Interval,
     JointDecl,
@@ -82,6 +83,7 @@ def assemble_grammar(
         return next(iter(found[0].values.values()), None) if found else None
 
     start, backend, units = single("start"), single("backend"), single("units")
+    frequency = _frequency(rules, joints, problems)
     if not rules and not problems:
         problems.append(
             diagnostic(
@@ -101,7 +103,40 @@ def assemble_grammar(
         joints=tuple(joints),
         defines=defines,
         diagnostics=tuple(sorted(problems, key=lambda d: d.span)),
+        frequency=frequency,
     )
+
+
+def _frequency(
+    rules: list[Rule], joints: list[JointDecl], problems: list[Diagnostic]
+) -> FrequencyDecl | None:
+    """The grammar's one ``@frequency`` rule, if any: a second one, or one on a joint's rule, is
+    GG404. The annotation's arguments were checked with the others; read here, they are re-read
+    without reporting twice."""
+    found: FrequencyDecl | None = None
+    joint_rules = {j.rule for j in joints}
+    for rule in rules:
+        for annotation in (a for a in rule.annotations if a.name == "frequency"):
+            hint = "one rule derives the cycle's frequency; delete the extra @frequency"
+            if rule.name in joint_rules:
+                message = f"<{rule.name}> derives a joint's curve, so it cannot derive the frequency too"
+                hint = (
+                    "give the frequency a rule of its own, such as <frequency> ::= float[0.6..1.9 step 0.1]"
+                )
+            elif found is not None:
+                message = f"@frequency is given more than once; <{found.rule}> derives the frequency"
+            else:
+                limits = check_annotation(annotation, []).values.get("limits")
+                found = FrequencyDecl(
+                    rule=rule.name,
+                    limits=(float(limits.low), float(limits.high))  # type: ignore[arg-type]
+                    if isinstance(limits, Interval)
+                    else None,
+                    span=annotation.span,
+                )
+                continue
+            problems.append(diagnostic("GG404", message, annotation.span, rule=rule.name, hint=hint))
+    return found
 
 
 @dataclass

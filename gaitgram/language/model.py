@@ -177,6 +177,24 @@ class JointDecl:
         return generation >= first and (last is None or generation <= last)
 
 
+#: The key of the ``@frequency`` rule's phenotype among a derivation's joint phenotypes: not a
+#: joint name (those are identifiers), so it never collides with one.
+FREQUENCY = "@frequency"
+
+
+@dataclass(frozen=True, slots=True)
+class FrequencyDecl:
+    """A ``@frequency`` annotation, interpreted: ``rule`` derives the gait cycle's frequency.
+
+    The rule's phenotype is a constant expression in Hz (the stride frequency), which
+    replaces the backend's imposed one; ``limits`` (Hz), if given, bound it.
+    """
+
+    rule: str
+    limits: tuple[float, float] | None
+    span: Span
+
+
 # ---- rules and grammars ----------------------------------------------------------
 
 
@@ -214,6 +232,8 @@ class Grammar:
     joints: tuple[JointDecl, ...]
     defines: dict[str, int] = field(default_factory=dict)
     diagnostics: tuple[Diagnostic, ...] = ()
+    #: The rule that derives the cycle's frequency, if the grammar evolves it.
+    frequency: FrequencyDecl | None = None
 
     @cached_property
     def rules_by_name(self) -> dict[str, Rule]:

@@ -5,6 +5,10 @@ gait cycle. A joint the grammar does not drive, or one not yet free under the
 joint-freedom schedule, holds its neutral angle (0). An individual whose genome
 was invalid, or whose curves fail to compile or are not finite, keeps a row of
 NaN and a reason, so a backend can score it as unviable without evaluating it.
+
+A grammar with a ``@frequency`` rule gives each individual its cycle frequency
+(Hz) as well: a constant expression, finite, positive and within the rule's
+limits, or the individual is unusable.
 """
 
 from __future__ import annotations
@@ -18,6 +22,7 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
+from gaitgram.language.model import FREQUENCY
 from gaitgram.motion.expression import Motion, MotionStatus, compile_motion, phase_grid
 
 #: Samples per cycle: enough for the 10th harmonic many times over, cheap to build.
@@ -38,12 +43,25 @@ class MotionBatch:
 
     ``angles[g, j, k]`` is joint ``joints[j]`` of gait ``g`` at phase ``k / n_samples``.
     ``problems[g]`` is None for a usable gait; its ``details[g]`` says what went wrong.
+    ``frequencies[g]`` is gait ``g``'s cycle frequency in Hz, where the grammar evolves it
+    (None: the backend imposes one frequency on every gait).
     """
 
     joints: tuple[str, ...]
     angles: NDArray[np.float64]
     problems: tuple[MotionProblem | None, ...]
     details: tuple[str | None, ...]
+    frequencies: NDArray[np.float64] | None = None
+
+    def rows(self, start: int, stop: int) -> MotionBatch:
+        """Gaits ``start..stop-1`` as a batch of their own."""
+        return MotionBatch(
+            self.joints,
+            self.angles[start:stop],
+            self.problems[start:stop],
+            self.details[start:stop],
+            None if self.frequencies is None else self.frequencies[start:stop],
+        )
 
     def __len__(self) -> int:
         return self.angles.shape[0]
@@ -68,22 +86,57 @@ def motion_batch(
     units: str = "deg",
     n_samples: int = DEFAULT_SAMPLES,
     frozen: Collection[str] = (),
+    frequency: tuple[float, float] | None = None,
 ) -> MotionBatch:
     """Sample each individual's joint phenotypes (None: an invalid genome) into a batch.
 
     ``frozen`` joints hold neutral whatever their phenotype says (Table 3's schedule).
+    ``frequency`` is the range (Hz) of an evolved cycle frequency, read from each
+    phenotype's ``"@frequency"`` text; None: the grammar does not evolve it.
     """
     scale = 180.0 / math.pi if units == "rad" else 1.0
     angles = np.zeros((len(phenotypes), len(joints), n_samples))
+    frequencies = None if frequency is None else np.full(len(phenotypes), np.nan)
     problems: list[MotionProblem | None] = []
     details: list[str | None] = []
     for g, texts in enumerate(phenotypes):
         problem, detail = _fill(angles[g], texts, joints, n_samples, scale, frozen)
+        if problem is None and frequencies is not None and frequency is not None:
+            frequencies[g], problem, detail = cycle_frequency((texts or {}).get(FREQUENCY), frequency)
         if problem is not None:
             angles[g] = np.nan
+            if frequencies is not None:
+                frequencies[g] = np.nan
         problems.append(problem)
         details.append(detail)
-    return MotionBatch(tuple(joints), angles, tuple(problems), tuple(details))
+    return MotionBatch(tuple(joints), angles, tuple(problems), tuple(details), frequencies)
+
+
+def cycle_frequency(
+    text: str | None, limits: tuple[float, float]
+) -> tuple[float, MotionProblem | None, str | None]:
+    """A ``@frequency`` phenotype's value in Hz, or why it has none: it must be a constant
+    expression (no ``t``), finite, and within ``limits``."""
+    if text is None:
+        return math.nan, MotionProblem.INVALID_MOTION, "the @frequency rule derived nothing"
+    values, problem, detail = sampled_curve(text, 4)
+    if problem is not None:
+        return math.nan, problem, f"@frequency: {detail}"
+    if values.min() != values.max():
+        return (
+            math.nan,
+            MotionProblem.INVALID_MOTION,
+            f"@frequency: {text!r} depends on t; it must be constant",
+        )
+    value = float(values[0])
+    low, high = limits
+    if not low <= value <= high:
+        return (
+            math.nan,
+            MotionProblem.INVALID_MOTION,
+            f"@frequency: {value:g} Hz is outside the allowed {low:g}..{high:g} Hz",
+        )
+    return value, None, None
 
 
 def _fill(

@@ -19,6 +19,8 @@ import numpy as np
 from gaitgram.analysis.cfg import RuleKind, build_cfg
 from gaitgram.backends.catalogue import JointCatalogue
 from gaitgram.backends.mujoco_horse import CATALOGUE
+from gaitgram.backends.mujoco_horse.settings import NOMINAL_HIP_HEIGHT
+from gaitgram.backends.mujoco_horse.task import DEFAULT_FROUDE, walk_targets
 from gaitgram.language.model import Grammar
 from gaitgram.language.ranges import parse_range
 from gaitgram.motion.expression import Motion, compile_motion, phase_grid
@@ -56,6 +58,11 @@ MAX_TERMS = 3
 FUNCTION_AMPLITUDE = 20.0
 #: Sec. 4.3's offsets: within this many degrees of the seed's.
 OFFSET_REACH = 5.0
+#: The evolved cycle frequency (Hz): from a slow walk up to where the seed's stride would reach
+#: the target speed; the middle value is the target frequency, which the seed genome picks.
+TARGET_FREQUENCY = walk_targets(DEFAULT_FROUDE, NOMINAL_HIP_HEIGHT).stride_frequency
+FREQUENCY_LOW = 0.3
+FREQUENCY_STEP = 0.05
 #: Phases at which curve bounds are worked out (a multiple of ``gaitgram test``'s 256).
 BOUND_SAMPLES = 2048
 
@@ -71,9 +78,13 @@ def write_grammar(
     threshold: float = 1.0,
     command: str | None = None,
     catalogue: JointCatalogue = CATALOGUE,
+    frequency: float | None = None,
 ) -> str:
+    """The grammar text; with ``frequency`` (the target's, Hz) the cycle frequency evolves in a
+    ``@frequency`` rule centred on it, else the backend imposes it as in the paper."""
     fits = fit_seed(seed, threshold)
     joints = [j for j in catalogue.names if j in fits] if style is not Style.FREE else list(catalogue.names)
+    rules = [f"<{j}>" for j in joints] + (["<frequency>"] if frequency is not None else [])
     header = [
         f"# {style.value}.gg: {SUMMARIES[style]}.",
         "#",
@@ -84,11 +95,27 @@ def write_grammar(
         "@backend mujoco-horse",
         "@units deg",
         "",
-        "<prog> ::= " + ";".join(f"<{j}>" for j in joints),
+        "<prog> ::= " + ";".join(rules),
         "",
     ]
     body = _WRITERS[style](joints, fits, catalogue)
+    if frequency is not None:
+        while body and not body[-1]:
+            body.pop()
+        body += ["", *_frequency_rule(frequency)]
     return "\n".join(header + body).rstrip("\n") + "\n"
+
+
+def _frequency_rule(target: float) -> list[str]:
+    """Frequencies from ``FREQUENCY_LOW`` up, the target's (to the step) in the middle."""
+    centre = round(target / FREQUENCY_STEP) * FREQUENCY_STEP
+    high = 2 * centre - FREQUENCY_LOW
+    bounds = f"{_num(FREQUENCY_LOW)}..{_num(high)}"
+    return [
+        "# The stride frequency evolves (the paper imposes it): docs/fitness.md.",
+        f"@frequency limits={bounds}",
+        f"<frequency> ::= float[{bounds} step {_num(FREQUENCY_STEP)}]",
+    ]
 
 
 def _joint_annotation(joint: str, catalogue: JointCatalogue, *, freedom: bool = False) -> str:
@@ -328,7 +355,9 @@ def seed_genome(grammar: Grammar) -> tuple[int, ...]:
     while stack:
         rule = stack.pop()
         choices = cfg.choices[rule]
-        choice = len(choices) // 2 if cfg.kinds[rule] is RuleKind.RANGE else 0
+        # A range rule, or a rule that is one range on its own (all choices from one alternative).
+        ranged = cfg.kinds[rule] is RuleKind.RANGE or len(set(cfg.alternative_of[rule])) == 1
+        choice = len(choices) // 2 if ranged else 0
         if len(choices) > 1:
             genome.append(choice)
         stack.extend(item for item in reversed(choices[choice]) if isinstance(item, int))

@@ -133,7 +133,18 @@ def analyse(
 
 def _verify(grammar: object, source: SourceText, defines: Mapping[str, int]) -> None:
     full = parse(source, defines=defines)
-    for part in ("rules", "annotations", "joints", "diagnostics", "start", "backend", "units", "defines"):
+    parts = (
+        "rules",
+        "annotations",
+        "joints",
+        "frequency",
+        "diagnostics",
+        "start",
+        "backend",
+        "units",
+        "defines",
+    )
+    for part in parts:
         if getattr(grammar, part) != getattr(full, part):
             raise AssertionError(f"incremental parse differs from a full parse in {part}")
 

@@ -74,7 +74,7 @@ async def test_no_rule_names_where_a_new_rule_is_named(client: Client) -> None:
 
 async def test_annotation_names_after_at(client: Client) -> None:
     result = await complete(client, WALK + "@j", 7)
-    assert set(labels(result)) == {"start", "backend", "units", "define", "joint"}
+    assert set(labels(result)) == {"start", "backend", "units", "define", "joint", "frequency"}
     joint = next(i for i in result.items if i.label == "joint")
     assert joint.text_edit is not None
     assert joint.text_edit.range == types.Range(start=at(7, 1), end=at(7, 2))

@@ -22,7 +22,7 @@ from gaitgram.language import load
 from gaitgram.motion import compile_motion, phase_grid
 from gaitgram.motion.gait import MotionBatch
 from gaitgram.seed import SeedError, build_seed, load_seed, read_seed_csv
-from gaitgram.seed.grammars import Style, seed_genome, write_grammar
+from gaitgram.seed.grammars import TARGET_FREQUENCY, Style, seed_genome, write_grammar
 
 runner = CliRunner()
 
@@ -77,7 +77,7 @@ def test_seed_curves_are_within_joint_limits_with_published_ranges() -> None:
 def test_shipped_grammars_are_regenerated_exactly_and_pass_strict(style: Style) -> None:
     path = GRAMMARS / f"{style.value}.gg"
     command = f"gaitgram seed grammar --style {style.value} -o grammars/{style.value}.gg"
-    assert path.read_text() == write_grammar(style, load_seed(), command=command)
+    assert path.read_text() == write_grammar(style, load_seed(), command=command, frequency=TARGET_FREQUENCY)
     result = check(load(path))
     assert not result.diagnostics, result.diagnostics
     assert {j.joint for j in result.grammar.joints} == set(CATALOGUE.names)
@@ -92,7 +92,7 @@ def test_every_joint_phenotype_compiles(style: Style) -> None:
         tree = random_tree(checked.facts, rng, max_depth=8)
         mapped = mapper.map_fast(tree.genome)
         assert mapped.valid
-        assert len(mapped.joints) == 12
+        assert len(mapped.joints) == 13  # 12 joints and the @frequency rule
         for joint, text in mapped.joints.items():
             assert not hasattr(compile_motion(text), "status"), (joint, text)
 
@@ -102,7 +102,9 @@ def test_seed_genome_derives_the_seed(style: Style) -> None:
     grammar = load(GRAMMARS / f"{style.value}.gg")
     mapped = compile_mapper(grammar).map_fast(seed_genome(grammar))
     seed = load_seed()
-    for joint, text in mapped.joints.items():
+    joints = dict(mapped.joints)
+    assert joints.pop("@frequency") == "0.95"  # the target's, to the range's step
+    for joint, text in joints.items():
         curve = compile_motion(text).evaluate(phase_grid(100)).values
         error = np.abs(curve - seed.angles[joint])  # only sub-threshold terms missing
         assert error.max() < 3.0, joint

@@ -47,7 +47,19 @@ def run(tmp_path: Path, text: str, *args: str):
 def test_a_clean_grammar_passes(tmp_path: Path) -> None:
     result = run(tmp_path, CLEAN)
     assert result.exit_code == 0, result.stdout
-    assert result.stdout.count("passed") == 6
+    assert result.stdout.count("passed") == len(BUILT_IN)
+
+
+def test_a_frequency_outside_its_limits_is_found_at_the_edge(tmp_path: Path) -> None:
+    text = CLEAN.replace("<gait> ::= <hip>", "<gait> ::= <hip>;<f>") + (
+        "@frequency limits=0.5..1.5\n<f> ::= float[0.5..2 step 0.25] | 0.1*t+1\n"
+    )
+    result = run(tmp_path, text, "--format", "json")
+    assert result.exit_code == 1
+    found = {r["property"]: r for r in json.loads(result.stdout)}["frequency-valid"]
+    assert not found["passed"]
+    assert found["phenotype"].endswith(";1.75")  # the smallest value past 1.5
+    assert "outside the allowed 0.5..1.5 Hz" in found["reason"]
 
 
 def test_planted_defects_fail_with_minimal_counterexamples(tmp_path: Path) -> None:

@@ -11,7 +11,12 @@ from typing import Any
 
 from gaitgram.backends.catalogue import load_catalogue
 from gaitgram.backends.mujoco_horse.settings import WEIGHT_NAMES, HorseSettings
-from gaitgram.backends.mujoco_horse.task import DEFAULT_WEIGHTS, TASK_REVISION, unviable_fitness
+from gaitgram.backends.mujoco_horse.task import (
+    CYCLE_FREQUENCIES,
+    DEFAULT_WEIGHTS,
+    TASK_REVISION,
+    unviable_fitness,
+)
 from gaitgram.backends.registry import BackendSpec
 
 CATALOGUE = load_catalogue(files(__name__).joinpath("joints.toml"))
@@ -53,4 +58,5 @@ BACKEND = BackendSpec(
     unviable_fitness=lambda settings, weights: unviable_fitness(
         weights or settings.get("weights") or DEFAULT_WEIGHTS
     ),
+    cycle_frequencies=CYCLE_FREQUENCIES,
 )

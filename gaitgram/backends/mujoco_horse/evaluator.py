@@ -56,7 +56,7 @@ UNSTABLE_SPEED = 200.0
 CONTACT_FORCE = 5.0
 #: A hoof's contact starts a new footfall only after this long off the ground (s): contact
 #: chatter within a stance is not a stride.
-TOUCHDOWN_GAP_SECONDS = 0.06
+TOUCHDOWN_GAP_SECONDS = 0.2
 #: Simulated time between checks for unviable gaits (rounded to whole steps).
 CHUNK_SECONDS = 0.25
 #: Gaits simulated together: bounds the memory of a chunk (controls, records) whatever the population.
@@ -121,6 +121,9 @@ class HorseEvaluator:
         self._datas: list[mujoco.MjData] = []
         self._sim: mjbatch.Batch | None = None  # chunked rollouts (evaluate)
         self._start_row: np.ndarray | None = None
+        self._offsets = np.array(
+            [self.targets.phase_offsets.get(limb, 0.0) if limb else 0.0 for limb in self.layout.actuator_limb]
+        )
         self._phase, self._ramp = self._step_phases()
         self._curve_of_actuator = np.asarray(self.layout.actuator_curve_index)
         self._lookups: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
@@ -145,9 +148,7 @@ class HorseEvaluator:
     def _step_phases(self) -> tuple[np.ndarray, np.ndarray]:
         """Per actuator and step, the cycle phase its limb is at; and the ramp-in factor per step."""
         time = np.arange(self.nstep) * self.dt
-        offsets = np.array(
-            [self.targets.phase_offsets.get(limb, 0.0) if limb else 0.0 for limb in self.layout.actuator_limb]
-        )
+        offsets = self._offsets
         phase = np.mod(time[None, :] * self.targets.stride_frequency - offsets[:, None], 1.0)  # [nu, nstep]
         ramp = (
             np.clip(time / self.settings.ramp_seconds, 0.0, 1.0)
@@ -161,7 +162,16 @@ class HorseEvaluator:
 
         All ``nstep`` steps at once (for rendering one gait); evaluation builds the same values a
         chunk at a time."""
-        return self._control_steps(self._curve_table(batch, rows), batch.n_samples, 0, self.nstep)
+        return self._control_steps(
+            self._curve_table(batch, rows), batch.n_samples, 0, self.nstep, self._frequencies(batch, rows)
+        )
+
+    def _frequencies(self, batch: MotionBatch, rows: np.ndarray) -> np.ndarray | None:
+        """Each gait's cycle frequency (Hz) where the grammar evolves it; None: the target's for all."""
+        if batch.frequencies is None:
+            return None
+        chosen = np.asarray(batch.frequencies, dtype=float)[rows]
+        return np.where(np.isfinite(chosen), chosen, self.targets.stride_frequency)
 
     def _curve_table(self, batch: MotionBatch, rows: np.ndarray) -> np.ndarray:
         """Per gait, every actuator's curve samples in radians, flat: [gaits, actuators * samples]."""
@@ -171,18 +181,28 @@ class HorseEvaluator:
         per_curve = angles[:, order, :]  # [G, curves, S]; undriven curves read the zero row
         return np.radians(per_curve[:, self._curve_of_actuator, :]).reshape(len(rows), -1)  # [G, nu*S]
 
-    def _control_steps(self, table: np.ndarray, samples: int, first: int, last: int) -> np.ndarray:
-        """Controls [gaits, last - first, actuators] for steps ``first..last-1`` from a curve table.
+    def _control_steps(
+        self, table: np.ndarray, samples: int, first: int, last: int, frequencies: np.ndarray | None = None
+    ) -> np.ndarray:
+        """Controls [gaits, last - first, actuators] for steps ``first..last-1`` from a curve table,
+        at the target's cycle frequency, or at each gait's own ``frequencies`` (Hz).
 
         Element by element the same operations whatever the step range, so a chunk's controls are
         bit-identical to the same steps of the full array."""
-        low, high, frac = self._lookup(samples)
         steps = slice(first, last)
-        # One flat gather per interpolation end, straight into [gaits, steps, actuators] order.
-        v_low = np.take(table, low[steps], axis=1)
-        control = np.take(table, high[steps], axis=1)
+        if frequencies is None:
+            low, high, frac = self._lookup(samples)
+            # One flat gather per interpolation end, straight into [gaits, steps, actuators] order.
+            v_low = np.take(table, low[steps], axis=1)
+            control = np.take(table, high[steps], axis=1)
+            fraction = frac[steps]
+        else:
+            low, high, fraction = self._own_lookup(samples, first, last, frequencies)
+            gait = np.arange(len(table))[:, None, None]
+            v_low = table[gait, low]
+            control = table[gait, high]
         control -= v_low
-        control *= frac[steps]
+        control *= fraction
         control += v_low
         control *= self._ramp[None, steps, None]
         control += self._neutral
@@ -199,6 +219,18 @@ class HorseEvaluator:
             cached = (base + low, base + (low + 1) % samples, position - np.floor(position))
             self._lookups[samples] = cached
         return cached
+
+    def _own_lookup(
+        self, samples: int, first: int, last: int, frequencies: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """As :meth:`_lookup`, per gait at its own frequency: [gaits, steps, actuators] each."""
+        time = np.arange(first, last) * self.dt
+        phase = np.mod(time[None, :, None] * frequencies[:, None, None] - self._offsets[None, None, :], 1.0)
+        position = phase * samples
+        floor = np.floor(position)
+        low = floor.astype(np.intp) % samples
+        base = np.arange(self.model.nu)[None, None, :] * samples
+        return base + low, base + (low + 1) % samples, position - floor
 
     # ---- simulation -------------------------------------------------------------------
 
@@ -286,6 +318,7 @@ class HorseEvaluator:
         size = len(rows)
         sim = self._simulator()
         table = self._curve_table(batch, rows)
+        frequencies = self._frequencies(batch, rows)
         tally = _Tally(size, self.scored_steps)
         sim.state[:size] = self._start_row
         sim.warning[:size] = 0
@@ -294,8 +327,13 @@ class HorseEvaluator:
             if not len(alive):
                 break
             last = min(first + self.chunk_steps, self.nstep)
+            everyone = len(alive) == size
             control = self._control_steps(
-                table if len(alive) == size else table[alive], batch.n_samples, first, last
+                table if everyone else table[alive],
+                batch.n_samples,
+                first,
+                last,
+                frequencies if frequencies is None or everyone else frequencies[alive],
             )
             state, sensors = self._chunk_buffers(len(alive), last - first)
             errors = None

@@ -25,7 +25,7 @@ G = 9.81
 
 #: Bumped whenever a gait could score differently (targets, metrics, formula): runs record it, and
 #: a run scored under another revision is not resumed.
-TASK_REVISION = 2  # 2: strides from footfalls, capped components, finite unviable score, walk
+TASK_REVISION = 3  # 2: strides from footfalls, capped components, unviable score, walk; 3: 0.2 s swing
 
 #: (sqrt(Fr'), duty factor) read from Alexander & Jayes (1983).
 DUTY_FACTOR_POINTS = ((0.0, 0.75), (0.45, 0.65), (0.7, 0.55), (1.0, 0.45), (1.6, 0.35), (2.5, 0.27))
@@ -50,6 +50,10 @@ COMPONENT_CAP = 5.0
 #: An unviable gait scores as if every component were at twice the cap: worse than any viable
 #: gait, yet finite, so that averages over a population mean something (docs/fitness.md).
 UNVIABLE_COMPONENT = 2 * COMPONENT_CAP
+
+#: The cycle frequencies (Hz) a grammar's ``@frequency`` rule may give a gait: from a slow walk
+#: (a horse's is about 0.7 Hz) to a fast trot (about 1.6 Hz), with room on either side.
+CYCLE_FREQUENCIES = (0.3, 3.0)
 
 #: A walk, for the walk rate: speed within 10 % of the target and duty factor within 0.05.
 WALK_SPEED_TOLERANCE = 0.10
