@@ -43,7 +43,7 @@ def _time_study(folder: Path, jobs: int, threads: int) -> tuple[float, list[floa
     start = time.perf_counter()
     run_study(directory, jobs=jobs, threads=threads)
     seconds = time.perf_counter() - start
-    bests = [json.loads(path.read_text())["fitness"] for path in sorted(out.glob("*/run-*/best.json"))]
+    bests = [json.loads(path.read_text())["fitness"] for path in sorted(out.glob("arms/*/run-*/best.json"))]
     return seconds, bests
 
 

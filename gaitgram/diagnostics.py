@@ -47,6 +47,7 @@ _CODES = (
     Code("GG106", "empty-alternative", W, "an empty alternative, which PonyGE2 drops"),
     Code("GG107", "comment-splits-alternative", W, "text after a comment starts a new alternative"),
     Code("GG108", "empty-rule", E, "a rule with no alternatives"),
+    Code("GG109", "unencodable-text", E, "text that UTF-8 cannot encode (a lone surrogate)", syntax=True),
     # Rules: GG2xx.
     Code("GG201", "undefined-rule", E, "a non-terminal that no rule defines"),
     Code("GG202", "duplicate-rule", E, "a rule defined more than once"),
@@ -61,6 +62,9 @@ _CODES = (
     Code("GG303", "range-off-grid", W, "a range bound that is not on its step grid"),
     Code("GG304", "range-too-large", E, "a typed range with too many values"),
     Code("GG305", "range-kind-mismatch", E, "an int range with fractional bounds or step"),
+    Code("GG306", "range-values-collapse", E, "a typed range whose values would not all be distinct"),
+    Code("GG307", "unrepresentable-range-number", E, "a range number or value a double cannot hold exactly"),
+    Code("GG308", "range-count-too-small", E, "count 1 over a range whose two ends differ"),
     # Annotations: GG4xx.
     Code("GG401", "unknown-annotation", W, "an annotation gaitgram does not know"),
     Code("GG402", "bad-annotation-arguments", E, "an annotation with missing, extra or ill-typed arguments"),

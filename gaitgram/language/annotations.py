@@ -13,6 +13,7 @@ from enum import StrEnum
 
 from gaitgram.diagnostics import Diagnostic, diagnostic
 from gaitgram.language.model import Annotation, Argument, ArgumentValue, Interval, Name, RuleRef
+from gaitgram.language.ranges import NUMBER_LIMITS, number_problem, read_number
 
 
 class Target(StrEnum):
@@ -203,6 +204,18 @@ def _convert(
         shown = "nothing" if value is None else repr(argument.raw.split("=", 1)[-1])
         problems.append(_bad(argument, f"{label} must be {expected}, not {shown}", usage))
 
+    numeric = (ValueType.INT, ValueType.NUMBER, ValueType.INTERVAL, ValueType.GENERATIONS)
+    if wanted in numeric and isinstance(value, int | float | Interval):
+        # Numbers are checked as written, exactly: as ints or doubles, 1e400 would be inf,
+        # 1e-400 would be 0 and 0.10000000000000001 would be 0.1.
+        written = argument.raw.split("=", 1)[1] if argument.key is not None else argument.raw
+        for text in (t for t in written.split("..") if t):
+            reason = number_problem(read_number(text))
+            if reason is not None:
+                shown = text if len(text) <= 30 else f"{text[:24]}…{text[-5:]}"
+                problems.append(_bad(argument, f"{label}: {shown} {reason}", NUMBER_LIMITS))
+                return None
+
     if wanted is ValueType.NAME:
         if not isinstance(value, Name):
             fail("a name")
@@ -241,11 +254,12 @@ def _convert(
         fail("an interval lo..hi")
         return None
     if wanted is ValueType.GENERATIONS:
+        # Whole numbers are ints (``1e3`` and ``10.0`` too); a float is never a whole number.
         if isinstance(value, int) and value >= 0:
             return Interval(value, None)
         if isinstance(value, Interval):
             low = 0 if value.low is None else value.low
-            whole = all(x is None or (float(x).is_integer() and x >= 0) for x in (value.low, value.high))
+            whole = all(x is None or (isinstance(x, int) and x >= 0) for x in (value.low, value.high))
             if whole and (value.high is None or low <= value.high):
                 return Interval(int(low), None if value.high is None else int(value.high))
         fail("a generation N, or generations N..M or N..")

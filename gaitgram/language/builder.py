@@ -44,8 +44,8 @@ from gaitgram.language.model import (
     Terminal,
 )
 from gaitgram.language.parser import scanner, tree_end, tree_start
-from gaitgram.language.ranges import MAX_RANGE_VALUES, parse_range
-from gaitgram.language.source import SourceText, Span
+from gaitgram.language.ranges import MAX_RANGE_VALUES, exact_int, parse_range, read_number
+from gaitgram.language.source import SourceText, Span, unencodable_text
 
 _BLANK = frozenset({"WS", "NEWLINE", "COMMENT"})
 _TEXTUAL = frozenset({"TEXT", "WS"})
@@ -149,6 +149,7 @@ class _Builder:
     # ---- document ------------------------------------------------------------
 
     def build(self, tree: Tree) -> Grammar:
+        self.problems.extend(unencodable_text(self.source))
         items = tree.children
         annotations = [
             self._annotation(item) for item in items if isinstance(item, Tree) and item.data == "annotation"
@@ -591,11 +592,14 @@ def _content_end(pieces: list[Piece], default: int) -> int:
 
 
 def _number(token: Token) -> int | float:
-    text = str(token)
-    try:
-        return int(text)
-    except ValueError:
-        return float(text)
+    """A number as written: an int if its value is whole (``30``, ``1e3``, ``2.0``), else a float.
+
+    Never raises: ``1e400`` is ``inf`` and ``1e-400`` is ``0.0`` here, and the annotation
+    checks (``annotations._convert``) read the text again to refuse both.
+    """
+    value = read_number(str(token))
+    whole = exact_int(value)
+    return whole if whole is not None else float(value)
 
 
 def _shorten(text: str, limit: int = 40) -> str:

@@ -15,7 +15,8 @@ from dataclasses import dataclass
 
 _ESCAPE = re.compile(
     r"""\\(?:
-        N\{[^}\n]*\}? | U[0-9A-Fa-f]{0,8} | u[0-9A-Fa-f]{0,4} | x[0-9A-Fa-f]{0,2}
+        u[dD][89abAB][0-9A-Fa-f]{2}\\u[dD][c-fC-F][0-9A-Fa-f]{2}  # a UTF-16 surrogate pair, refused whole
+      | N\{[^}\n]*\}? | U[0-9A-Fa-f]{0,8} | u[0-9A-Fa-f]{0,4} | x[0-9A-Fa-f]{0,2}
       | [0-7]{1,3} | \n | . | $
     )""",
     re.VERBOSE | re.DOTALL,
@@ -62,10 +63,32 @@ def unescape(text: str) -> tuple[str, list[EscapeError]]:
             # One-character escapes: known ones decode, unknown ones (\w, \( ...) stay.
             return _SIMPLE.get(escape[1], escape)
         try:
-            return codecs.decode(escape, "unicode_escape")
+            decoded = codecs.decode(escape, "unicode_escape")
         except UnicodeDecodeError as exc:
             reason = "a backslash at the end of the text" if escape == "\\" else exc.reason
             errors.append(EscapeError(match.start(), match.end(), f"invalid escape {escape!r}: {reason}"))
             return escape
+        if _SURROGATE.search(decoded):
+            errors.append(EscapeError(match.start(), match.end(), _surrogate_message(escape, decoded)))
+            return escape
+        return decoded
 
     return _ESCAPE.sub(decode, text), errors
+
+
+#: UTF-16 surrogates: code points that are not characters, and that UTF-8 cannot encode.
+_SURROGATE = re.compile("[\ud800-\udfff]")
+
+
+def _surrogate_message(escape: str, decoded: str) -> str:
+    """Why a surrogate escape is refused, with the escape to write instead where there is one."""
+    if len(decoded) == 2:  # a high and a low surrogate: what UTF-16 would have meant
+        char = (decoded.encode("utf-16-le", "surrogatepass")).decode("utf-16-le")
+        return (
+            f"invalid escape {escape!r}: a UTF-16 surrogate pair is not text (it cannot be encoded "
+            f"as UTF-8); write \\U{ord(char):08X} for {char!r}"
+        )
+    return (
+        f"invalid escape {escape!r}: U+{ord(decoded):04X} is a lone UTF-16 surrogate, not a character "
+        "(it cannot be encoded as UTF-8)"
+    )

@@ -1,14 +1,26 @@
 """Typed ranges: the values behind ``int[5..8]``, ``float[0..20 step 0.25]`` and friends.
 
-Arithmetic is decimal, so ``float[0..20 step 0.25]`` derives exactly the texts
-``0 0.25 0.5 ... 20`` a user would have written out, and a range and its
-written-out list map every genome to the same phenotype.
+Numbers are read exactly as written: ``2.5e-1`` is the decimal 0.25, ``1.50`` is
+1.5 written to two decimals. Values are computed from them in exact arithmetic,
+so ``float[0..20 step 0.25]`` derives exactly the texts ``0 0.25 0.5 ... 20``
+a user would have written out, and a range and its written-out list map every
+genome to the same phenotype.
+
+A value means the number it prints: every number in a range, and every value
+it derives, is within ±:data:`MAX_MAGNITUDE` and has at most
+:data:`MAX_DIGITS` significant digits and :data:`MAX_DECIMALS` decimals. A
+double holds such a decimal exactly (it reads back unchanged), so distinct
+values stay distinct when a gait is evaluated. A range whose values would
+collapse, or that would need more, is an error, never a list with duplicates.
 """
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
-from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal, localcontext
+from decimal import Decimal, Inexact, Rounded, localcontext
+from fractions import Fraction
+from itertools import pairwise
 
 from lark import Token, Tree
 from lark.exceptions import LarkError, UnexpectedCharacters, UnexpectedEOF, UnexpectedToken
@@ -19,11 +31,24 @@ from gaitgram.language.parser import range_parser
 #: A range larger than this is almost certainly a typo, and would cost memory.
 MAX_RANGE_VALUES = 100_000
 
-#: Larger bounds are a typo; they would also make enormous value texts.
+#: Larger numbers are a typo; they would also make enormous value texts.
 MAX_MAGNITUDE = Decimal("1e12")
+_MAGNITUDE = "1e12"
+
+#: Significant digits a double holds exactly (C's ``DBL_DIG``): a decimal with no more
+#: reads back from a double unchanged.
+MAX_DIGITS = 15
+
+#: Decimals a value may have: below 1e-15 a joint angle or a frequency means nothing.
+MAX_DECIMALS = 15
 
 #: Extra decimals for ``count`` ranges, whose step rarely terminates.
 COUNT_EXTRA_DECIMALS = 2
+
+NUMBER_LIMITS = (
+    f"numbers are within ±{_MAGNITUDE}, with at most {MAX_DIGITS} significant digits "
+    f"and {MAX_DECIMALS} decimals"
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -38,6 +63,130 @@ class RangeProblem:
     hint: str | None = None
     offset: int = 0
     length: int | None = None
+
+
+# ---- numbers -------------------------------------------------------------------------------
+#
+# Everything here works on a Decimal's digits and exponent, never through a decimal
+# context: ``1e999999999`` and ``1e-999999999`` are read, measured and refused, not
+# rounded, overflowed or turned into a billion-digit integer.
+
+
+_EXPONENT = re.compile(r"[eE]([+-]?)0*(\d*)$")
+
+#: Exponents are clamped to this (far beyond every limit, within what a Decimal can hold).
+_EXTREME_EXPONENT = 10**15
+
+
+def read_number(text: str) -> Decimal:
+    """The exact value of a number's text: ``2.5e-1`` is 0.25 (written to two decimals).
+
+    An exponent too large for a Decimal (``1e9999999999999999999``) is clamped to one that is
+    still refused as too large or too small, so every number the syntax allows can be read.
+    """
+    match = _EXPONENT.search(text)
+    if match is not None and len(match.group(2)) > len(str(_EXTREME_EXPONENT)):
+        text = f"{text[: match.start()]}e{match.group(1)}{_EXTREME_EXPONENT}"
+    return Decimal(text)
+
+
+def _normal(value: Decimal) -> tuple[int, tuple[int, ...], int]:
+    """Sign, digits and exponent with trailing zeros dropped; zero has no digits."""
+    sign, digits, exponent = value.as_tuple()
+    assert isinstance(exponent, int), value  # finite: the number syntax has no inf or nan
+    end = len(digits)
+    while end and digits[end - 1] == 0:
+        end -= 1
+    start = 0
+    while start < end and digits[start] == 0:
+        start += 1
+    return sign, tuple(digits[start:end]), exponent + len(digits) - end
+
+
+def significant_digits(value: Decimal) -> int:
+    """``0.0250`` has 2 (2 and 5); zero has none."""
+    return len(_normal(value)[1])
+
+
+def decimal_places(value: Decimal) -> int:
+    """The decimals the value needs: 0.25 has 2, ``1.50`` 1, ``1e2`` and ``1.5e1`` none."""
+    _, digits, exponent = _normal(value)
+    return max(0, -exponent) if digits else 0
+
+
+def written_decimals(value: Decimal) -> int:
+    """The decimals the number was written with: ``1.50`` has 2, ``2.5e-1`` 2, ``1e2`` none."""
+    exponent = value.as_tuple().exponent
+    assert isinstance(exponent, int), value
+    return max(0, -exponent)
+
+
+def number_problem(value: Decimal) -> str | None:
+    """Why a number cannot be a value as written (to follow the number in a message), or None."""
+    if value.copy_abs() > MAX_MAGNITUDE:
+        return f"is beyond ±{_MAGNITUDE}"
+    places = decimal_places(value)
+    if places > MAX_DECIMALS:
+        if value.adjusted() < -MAX_DECIMALS:
+            return f"is too small: values keep at most {MAX_DECIMALS} decimals, so it would read as 0"
+        return f"has {places} decimals; at most {MAX_DECIMALS} are kept"
+    digits = significant_digits(value)
+    if digits > MAX_DIGITS:
+        return f"has {digits} significant digits; a double holds {MAX_DIGITS}"
+    return None
+
+
+def exact_int(value: Decimal) -> int | None:
+    """The value as an int if it is a whole number (``1e3``, ``2.0``) of sane size, else None."""
+    sign, digits, exponent = _normal(value)
+    if not digits:
+        return 0
+    if exponent < 0 or exponent + len(digits) > 100:
+        return None
+    whole = int("".join(map(str, digits))) * 10**exponent
+    return -whole if sign else whole
+
+
+def _units(value: Decimal, places: int) -> int:
+    """``value`` times 10**places, which must be a whole number."""
+    sign, digits, exponent = _normal(value)
+    if not digits:
+        return 0
+    shift = exponent + places
+    assert shift >= 0, (value, places)
+    units = int("".join(map(str, digits))) * 10**shift
+    return -units if sign else units
+
+
+def _int_digits(value: Decimal) -> int:
+    """Digits before the point: 0 for 0.5, 3 for -123.4."""
+    return value.adjusted() + 1 if value.copy_abs() >= 1 else 0
+
+
+def _plain(value: Decimal) -> str:
+    """A checked number as fixed-point text without trailing zeros: 0.25, 20, -3.14."""
+    places = decimal_places(value)
+    return units_text(_units(value, places), places)
+
+
+def units_text(units: int, places: int) -> str:
+    """The fixed-point text of ``units``·10**-``places`` without trailing zeros: 0.25, 20, -3.14."""
+    if places == 0:
+        return str(units)
+    digits = str(abs(units)).rjust(places + 1, "0")
+    whole, fraction = digits[:-places], digits[-places:].rstrip("0")
+    return ("-" if units < 0 else "") + whole + ("." + fraction if fraction else "")
+
+
+def format_number(value: Decimal, places: int) -> str:
+    """Fixed-point text without trailing zeros: 0.25, 20, -3.14."""
+    text = f"{value:.{places}f}"
+    if "." in text:
+        text = text.rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+# ---- ranges --------------------------------------------------------------------------------
 
 
 def parse_range(text: str) -> tuple[RangeSpec | None, list[RangeProblem]]:
@@ -75,78 +224,99 @@ def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProble
     bounds = next(c for c in tree.children if isinstance(c, Tree) and c.data in ("interval", "relative"))
     option = next((c for c in tree.children if isinstance(c, Tree) and c.data.endswith("_option")), None)
     numbers = [t for t in bounds.children if isinstance(t, Token) and t.type == "RANGE_NUMBER"]
-    problems: list[RangeProblem] = []
+    option_token: Token | None = option.children[1] if option is not None else None
+    by_count = option is not None and option.data == "count_option"
 
-    def number(token: Token) -> Decimal:
-        return Decimal(str(token))
+    # Every number is read exactly, and must be one a value can be (a count is checked below).
+    for token in (*numbers, *([] if by_count or option_token is None else [option_token])):
+        reason = number_problem(read_number(str(token)))
+        if reason is not None:
+            return None, [
+                _at(text, token, "GG307", f"{token} in {text!r} {reason}", NUMBER_LIMITS, where=False)
+            ]
 
-    decimals = max(_decimals(str(t)) for t in numbers)
+    center: Decimal | None = None
     if bounds.data == "interval":
-        low, high = number(numbers[0]), number(numbers[1])
-        center = None
+        low, high = read_number(str(numbers[0])), read_number(str(numbers[1]))
+        if low > high:
+            return None, [
+                RangeProblem(
+                    "GG301",
+                    f"empty range {text!r}: the lower bound {numbers[0]} is above the upper bound "
+                    f"{numbers[1]}",
+                    "swap the bounds",
+                )
+            ]
     else:
-        center, percent = number(numbers[0]), number(numbers[1])
+        center, percent = read_number(str(numbers[0])), read_number(str(numbers[1]))
         if percent < 0:
             return None, [_at(text, numbers[1], "GG302", "a relative range needs a non-negative percentage")]
-        delta = abs(center) * percent / 100
-        low, high = center - delta, center + delta
-        decimals = max(decimals, _decimals(str(low.normalize())), _decimals(str(high.normalize())))
-
-    if max(abs(low), abs(high)) > MAX_MAGNITUDE:
-        return None, [RangeProblem("GG304", f"range {text!r} has bounds beyond ±{MAX_MAGNITUDE:g}")]
-    if low > high:
-        return None, [
-            RangeProblem(
-                "GG301",
-                f"empty range {text!r}: the lower bound {low} is above the upper bound {high}",
-                "swap the bounds",
-            )
-        ]
+        with localcontext() as context:
+            context.prec = 100  # exact: both numbers have at most 15 digits
+            context.traps[Inexact] = context.traps[Rounded] = True
+            delta = center.copy_abs() * percent / 100
+            low, high = center - delta, center + delta
+        if high.copy_abs() > MAX_MAGNITUDE or low.copy_abs() > MAX_MAGNITUDE:
+            return None, [
+                _at(
+                    text,
+                    numbers[1],
+                    "GG307",
+                    f"{numbers[0]} ± {numbers[1]}% in {text!r} reaches {_plain(low)}..{_plain(high)}, "
+                    f"beyond ±{_MAGNITUDE}",
+                    "use a smaller percentage",
+                    where=False,
+                )
+            ]
 
     step: Decimal | None = None
     count: int | None = None
     if option is not None:
-        value_token = option.children[1]
-        value = number(value_token)
+        assert option_token is not None
+        value = read_number(str(option_token))
         if option.data == "step_option":
             if value <= 0:
-                return None, [_at(text, value_token, "GG302", f"the step must be positive, not {value}")]
-            step = value
-            decimals = max(decimals, _decimals(str(value_token)))
-        else:
-            if value != value.to_integral_value() or value < 1:
                 return None, [
-                    _at(text, value_token, "GG302", f"the count must be a whole number ≥ 1, not {value}")
+                    _at(text, option_token, "GG302", f"the step must be positive, not {option_token}")
                 ]
-            count = int(value)
+            step = value
+        else:
+            if decimal_places(value) == 0 and value > MAX_RANGE_VALUES:
+                shown = f"{int(value):,}" if value.adjusted() < MAX_DIGITS else str(option_token)
+                return None, [_too_large(text, None, shown)]
+            whole = exact_int(value)
+            if whole is None or whole < 1:
+                return None, [
+                    _at(
+                        text,
+                        option_token,
+                        "GG302",
+                        f"the count must be a whole number ≥ 1, not {option_token}",
+                    )
+                ]
+            count = whole
 
     if kind is RangeKind.INT:
         if count is not None:
             return None, [
                 _at(
                     text,
-                    option.children[0],
+                    option.children[0],  # type: ignore[union-attr]
                     "GG305",
                     "an int range takes a step, not a count",
                     hint="use float[... count N], or int[LO..HI step S]",
                 )
             ]
         step = step if step is not None else Decimal(1)
-        if step != step.to_integral_value() or (center is None and decimals > 0):
+        written = (low, high) if center is None else (center,)
+        if any(decimal_places(x) for x in (*written, step)):
+            what = "fractional bounds or step" if center is None else "a fractional centre or step"
             return None, [
                 RangeProblem(
                     "GG305",
-                    f"int range {text!r} has fractional bounds or step",
+                    f"int range {text!r} has {what}",
                     "use float[...] for fractional values",
                 )
-            ]
-        # Relative int ranges round inward, so every value is within the percentage.
-        low = low.to_integral_value(ROUND_CEILING)
-        high = high.to_integral_value(ROUND_FLOOR)
-        decimals = 0
-        if low > high:
-            return None, [
-                RangeProblem("GG301", f"empty range {text!r}: no integer within {center} ± its percentage")
             ]
     elif step is None and count is None:
         return None, [
@@ -159,72 +329,156 @@ def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProble
             )
         ]
 
-    try:
-        values = _values(low, high, center, step, count, decimals, problems, text)
-    except ArithmeticError:
-        return None, [RangeProblem("GG304", f"range {text!r} is out of numeric bounds")]
+    problems: list[RangeProblem] = []
+    if count is not None:
+        decimals = max(
+            (written_decimals(read_number(str(numbers[0]))), decimal_places(low), decimal_places(high))
+            if center is not None
+            else (written_decimals(low), written_decimals(high))
+        )
+        values = _count_values(text, low, high, count, decimals, center is None, problems)
+    else:
+        assert step is not None
+        values = _step_values(text, low, high, center, step, problems)
     if values is None:
         return None, problems
     return RangeSpec(kind, canonical_text(kind, bounds.data, numbers, option), tuple(values)), problems
 
 
-def _values(
+def _step_values(
+    text: str,
     low: Decimal,
     high: Decimal,
     center: Decimal | None,
-    step: Decimal | None,
-    count: int | None,
-    decimals: int,
+    step: Decimal,
     problems: list[RangeProblem],
-    text: str,
 ) -> list[str] | None:
-    with localcontext() as ctx:
-        ctx.prec = 50
-        if count is not None:
-            size = count
-            if size > MAX_RANGE_VALUES:
-                problems.append(_too_large(text, size))
-                return None
-            if size == 1:
-                points = [center if center is not None else low]
-            else:
-                width = (high - low) / (size - 1)
-                points = [low + width * i for i in range(size)]
-            places = min(decimals + COUNT_EXTRA_DECIMALS, 12)
-        else:
-            assert step is not None
-            if center is not None and low != high:
-                # Relative ranges are centred on their value: it is always one of them.
-                k = int(((center - low) / step).to_integral_value(ROUND_FLOOR))
-                if 2 * k + 1 > MAX_RANGE_VALUES:
-                    problems.append(_too_large(text, 2 * k + 1))
-                    return None
-                points = [center + step * i for i in range(-k, k + 1)]
-            else:
-                size = int(((high - low) / step).to_integral_value(ROUND_FLOOR)) + 1
-                if size > MAX_RANGE_VALUES:
-                    problems.append(_too_large(text, size))
-                    return None
-                points = [low + step * i for i in range(size)]
-                if points[-1] != high:
-                    problems.append(
-                        RangeProblem(
-                            "GG303",
-                            f"the upper bound {high} of {text!r} is not on the step grid; "
-                            f"the last value is {format_number(points[-1], decimals)}",
-                            "make the bounds differ by a whole number of steps",
-                        )
+    """``low, low+step, ...`` up to ``high``; or, centred, ``center ± k·step`` within the bounds.
+
+    Exact: every value has the decimals of the origin or the step, whichever has more.
+    """
+    origin = low if center is None else center
+    places = max(decimal_places(origin), decimal_places(step))
+    if center is None:
+        size = int((Fraction(high) - Fraction(low)) // Fraction(step)) + 1
+        first = 0
+    else:
+        k = int((Fraction(high) - Fraction(center)) // Fraction(step))
+        size, first = 2 * k + 1, -k
+    if size > MAX_RANGE_VALUES:
+        problems.append(_too_large(text, size))
+        return None
+    start, stride = _units(origin, places), _units(step, places)
+    units = [start + stride * i for i in range(first, first + size)]
+    if center is None and Fraction(units[-1], 10**places) != Fraction(high):
+        problems.append(
+            RangeProblem(
+                "GG303",
+                f"the upper bound {_plain(high)} of {text!r} is not on the step grid; "
+                f"the last value is {units_text(units[-1], places)}",
+                "make the bounds differ by a whole number of steps",
+            )
+        )
+    if _int_digits(max(low.copy_abs(), high.copy_abs())) + places > MAX_DIGITS:
+        for unit in units:
+            digits = len(str(abs(unit)).rstrip("0"))
+            if digits > MAX_DIGITS:
+                problems.append(
+                    RangeProblem(
+                        "GG307",
+                        f"{text!r} derives {units_text(unit, places)}, which has {digits} significant "
+                        f"digits; a double holds {MAX_DIGITS}",
+                        "write the bounds and the step with fewer decimals",
                     )
-            places = decimals
-        return [format_number(p, places) for p in points]
+                )
+                return None
+    return [units_text(u, places) for u in units]
 
 
-def format_number(value: Decimal, places: int) -> str:
-    """Fixed-point text without trailing zeros: 0.25, 20, -3.14."""
-    text = f"{value:.{places}f}"
-    if "." in text:
-        text = text.rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
+def _count_values(
+    text: str,
+    low: Decimal,
+    high: Decimal,
+    count: int,
+    decimals: int,
+    written_bounds: bool,
+    problems: list[RangeProblem],
+) -> list[str] | None:
+    """``count`` evenly spaced values from ``low`` to ``high``, both included, rounded (half to
+    even) to two more decimals than the bounds are written with, or to as many more as keep
+    them apart, within the limits a double holds exactly."""
+    if low == high:
+        if count == 1:
+            return [_plain(low)]
+        problems.append(
+            RangeProblem(
+                "GG306",
+                f"the bounds of {text!r} are both {_plain(low)}, so its {count} values would all be equal",
+                f"write {_plain(low)} itself, or make the bounds differ",
+            )
+        )
+        return None
+    if count == 1:
+        problems.append(
+            RangeProblem(
+                "GG308",
+                f"{text!r} asks for one value, but a count range includes both ends, "
+                f"{_plain(low)} and {_plain(high)}",
+                "use count 2 or more, or write the one value itself",
+            )
+        )
+        return None
+
+    widest = max(low.copy_abs(), high.copy_abs())
+    most = min(MAX_DECIMALS, MAX_DIGITS - _int_digits(widest))
+    exact = max(decimal_places(low), decimal_places(high))
+    if written_bounds and exact > most:
+        problems.append(
+            RangeProblem(
+                "GG307",
+                f"the values of {text!r} would need {_int_digits(widest) + exact} significant digits "
+                f"to include both bounds; a double holds {MAX_DIGITS}",
+                "write the bounds with fewer decimals",
+            )
+        )
+        return None
+
+    # value i = (lo·(n-1) + (hi-lo)·i) / ((n-1)·10**scale), in integers: exact, then rounded once.
+    scale = exact
+    lo, hi = _units(low, scale), _units(high, scale)
+    gaps = count - 1
+    width, denominator = hi - lo, gaps * 10**scale
+    places = min(decimals + COUNT_EXTRA_DECIMALS, most)
+    # Three neighbours closer than one unit of the last place cannot round to three numbers.
+    while places <= most and count >= 3 and 2 * width * 10**places < denominator:
+        places += 1
+    while places <= most:
+        units = _rounded(lo * gaps, width, gaps, denominator, 10**places)
+        if all(a != b for a, b in pairwise(units)):
+            return [units_text(u, places) for u in units]
+        places += 1
+    apart = float(Fraction(width, denominator))
+    problems.append(
+        RangeProblem(
+            "GG306",
+            f"the {count:,} values of {text!r} are {apart:.3g} apart: closer than the "
+            f"{most} decimals a value keeps here, so some would be equal",
+            "use a smaller count, or bounds further apart",
+        )
+    )
+    return None
+
+
+def _rounded(base: int, width: int, gaps: int, denominator: int, factor: int) -> list[int]:
+    """Round ``(base + width·i)·factor / denominator`` half to even, for i in 0..gaps."""
+    units = []
+    for i in range(gaps + 1):
+        quotient, remainder = divmod((base + width * i) * factor, denominator)
+        twice = 2 * remainder
+        if twice > denominator or (twice == denominator and quotient & 1):
+            quotient += 1
+        units.append(quotient)
+    return units
 
 
 def canonical_text(kind: RangeKind, form: str, numbers: list[Token], option: Tree | None) -> str:
@@ -235,19 +489,20 @@ def canonical_text(kind: RangeKind, form: str, numbers: list[Token], option: Tre
     return f"{kind}[{inner}]"
 
 
-def _decimals(number: str) -> int:
-    mantissa = number.lower().split("e")[0]
-    return len(mantissa.split(".")[1]) if "." in mantissa else 0
-
-
-def _at(text: str, token: Token, code: str, message: str, hint: str | None = None) -> RangeProblem:
+def _at(
+    text: str, token: Token, code: str, message: str, hint: str | None = None, *, where: bool = True
+) -> RangeProblem:
+    """A problem located at ``token``; ``where``: the message says which range."""
     start = token.start_pos or 0
-    return RangeProblem(code, f"{message} in {text!r}", hint, offset=start, length=len(token))
+    shown = f"{message} in {text!r}" if where else message
+    return RangeProblem(code, shown, hint, offset=start, length=len(token))
 
 
-def _too_large(text: str, size: int) -> RangeProblem:
+def _too_large(text: str, size: int | None, shown: str | None = None) -> RangeProblem:
+    if shown is None:
+        shown = f"{size:,}" if size is not None and size < 10**15 else f"about {float(size or 0):.1e}"
     return RangeProblem(
         "GG304",
-        f"range {text!r} has {size:,} values; at most {MAX_RANGE_VALUES:,} are allowed",
+        f"range {text!r} has {shown} values; at most {MAX_RANGE_VALUES:,} are allowed",
         "use a coarser step or a smaller count",
     )

@@ -7,11 +7,14 @@ demand, so the parser does no position bookkeeping per token.
 from __future__ import annotations
 
 import os
+import re
 import stat
 from bisect import bisect_right
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import BinaryIO
+
+from gaitgram.diagnostics import Diagnostic, diagnostic
 
 
 @dataclass(slots=True, order=True, unsafe_hash=True)
@@ -99,6 +102,34 @@ class SourceText:
 
     def slice(self, span: Span) -> str:
         return self.text[span.start : span.end]
+
+
+#: UTF-16 surrogates: code points that are not characters and that UTF-8 cannot encode. Decoding
+#: a file never yields one; a str from the library API or an editor can hold them.
+_SURROGATES = re.compile("[\ud800-\udfff]+")
+
+
+def unencodable_text(source: SourceText) -> list[Diagnostic]:
+    """GG109 for each run of text that cannot be encoded as UTF-8, which every command that
+    writes the grammar, its phenotypes or its tables out would otherwise fail on later."""
+    text = source.text
+    if text.isascii():
+        return []
+    problems = []
+    for match in _SURROGATES.finditer(text):
+        run = match.group()
+        points = ", ".join(f"U+{ord(c):04X}" for c in run[:4]) + (", ..." if len(run) > 4 else "")
+        what = "a lone UTF-16 surrogate, not a character" if len(run) == 1 else "UTF-16 surrogates"
+        problems.append(
+            diagnostic(
+                "GG109",
+                f"text that cannot be encoded as UTF-8: {points} ({what})",
+                Span(match.start(), match.end()),
+                hint="the text was decoded wrongly somewhere; write a character outside the Basic "
+                "Multilingual Plane as itself, or as an escape such as \\U0001F600",
+            )
+        )
+    return problems
 
 
 class SourceError(Exception):
