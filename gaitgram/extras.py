@@ -18,6 +18,9 @@ EXTRA_OF_MODULE: dict[str, str] = {
     "scipy": "stats",
     "dask": "dask",
     "distributed": "dask",
+    "cma": "cma-es",
+    "pymoo": "nsga2",
+    "ribs": "map-elites",
 }
 
 

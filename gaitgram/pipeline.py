@@ -15,7 +15,8 @@ same pipeline again (:mod:`gaitgram.evolution.rundir`).
 Building refuses, with a message that names the key and the fix, anything that
 would make the numbers mean something other than what they say: a grammar with
 errors, backend settings the backend does not know, a weight that no component
-has, depths the grammar cannot fit in, codons too small to reach every choice.
+has, depths the grammar cannot fit in, codons too small to reach every choice,
+a search strategy that cannot search this grammar or does not know a setting.
 Evaluating checks what comes back: a gait is only ``ok`` if its fitness and
 every component are finite.
 """
@@ -42,6 +43,8 @@ from gaitgram.evolution.config import RunConfig
 from gaitgram.ge.mapper import Mapped, Mapper, MapperError, compile_mapper
 from gaitgram.language.model import Grammar
 from gaitgram.motion.gait import MotionBatch, motion_batch
+from gaitgram.strategies.api import StrategyError
+from gaitgram.strategies.registry import StrategyLoadError, StrategyNotFound, get_strategy, strategy_names
 
 #: The backend of a grammar that names none and a config that names none.
 DEFAULT_BACKEND = "mujoco-horse"
@@ -113,7 +116,7 @@ class Pipeline:
         joints = (
             spec.catalogue.names if spec.catalogue is not None else tuple(j.joint for j in grammar.joints)
         )
-        return cls(checked, config, spec, mapper, joints)
+        return _with_strategy(cls(checked, config, spec, mapper, joints))
 
     @property
     def grammar(self) -> Grammar:
@@ -242,6 +245,31 @@ def _spec(name: str) -> BackendSpec:
         raise PipelineError(f"no backend named {name!r}; installed: {', '.join(backend_names())}") from None
     except BackendLoadError as error:
         raise PipelineError(str(error)) from None
+
+
+def _with_strategy(pipeline: Pipeline) -> Pipeline:
+    """The pipeline with its strategy's settings checked and normalised, if the strategy can search
+    this grammar and configuration at all."""
+    name = pipeline.config.strategy
+    try:
+        strategy = get_strategy(name)
+    except StrategyNotFound:
+        close = difflib.get_close_matches(name, strategy_names(), n=1)
+        hint = f"did you mean {close[0]}? " if close else ""
+        raise PipelineError(
+            f"strategy: no strategy named {name!r}; {hint}installed: {', '.join(strategy_names())}"
+        ) from None
+    except StrategyLoadError as error:
+        raise PipelineError(str(error)) from None
+    if strategy.check is None:
+        return pipeline
+    try:
+        settings = dict(strategy.check(pipeline))
+    except SettingsError as error:
+        raise PipelineError(f"[strategy_settings] {error.key}: {error.message}") from None
+    except StrategyError as error:
+        raise PipelineError(str(error)) from None
+    return replace(pipeline, config=replace(pipeline.config, strategy_settings=settings))
 
 
 def _check_weights(config: RunConfig, spec: BackendSpec) -> None:

@@ -2,7 +2,8 @@
 
 Each check is a small function from (grammar, facts) to diagnostics; ``lint``
 runs them all. Syntax problems were already found by the parser and live in
-``grammar.diagnostics``.
+``grammar.diagnostics``. Diagnostics carry their fixes (``Diagnostic.fixes``), made
+here where the names and spans are at hand.
 """
 
 from __future__ import annotations
@@ -13,34 +14,73 @@ from difflib import get_close_matches
 from gaitgram.analysis.cfg import RuleKind
 from gaitgram.analysis.facts import INFINITE, GrammarFacts, min_depths, occurrence_bounds
 from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backend_names, get_backend
-from gaitgram.diagnostics import Diagnostic, diagnostic
-from gaitgram.language.model import Grammar, NonTerminal, RuleRef
+from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit, diagnostic
+from gaitgram.language.edits import line_end, removal, union
+from gaitgram.language.model import Grammar, NonTerminal, Rule, RuleRef
+from gaitgram.language.source import Span
 
 Check = Callable[[Grammar, GrammarFacts], Iterator[Diagnostic]]
 
 
 def undefined_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
     defined = grammar.rules_by_name
+    nearest: dict[str, list[str]] = {}  # a missing name is often used many times
+
+    def near(name: str) -> list[str]:
+        if name not in nearest:
+            nearest[name] = _nearest(name, defined)
+        return nearest[name]
+
     for rule in grammar.rules:
         for ref in rule.references():
             if ref.name not in defined:
+                close = near(ref.name)
                 yield diagnostic(
                     "GG201",
                     f"<{ref.name}> is not defined",
                     ref.span,
                     rule=rule.name,
-                    hint=_suggest(ref.name, defined) or f"define it: <{ref.name}> ::= ...",
+                    hint=f"did you mean <{close[0]}>?" if close else f"define it: <{ref.name}> ::= ...",
+                    fixes=_undefined_fixes(grammar, ref.name, ref.span, rule, close),
+                    data={"name": ref.name},
                 )
     for annotation in grammar.annotations:
         if annotation.name == "start":
             for argument in annotation.positional():
                 if isinstance(argument.value, RuleRef) and argument.value.name not in defined:
+                    name = argument.value.name
+                    close = near(name)
                     yield diagnostic(
                         "GG201",
-                        f"the start rule <{argument.value.name}> is not defined",
+                        f"the start rule <{name}> is not defined",
                         argument.span,
-                        hint=_suggest(argument.value.name, defined) or "name a rule this file defines",
+                        hint=f"did you mean <{close[0]}>?" if close else "name a rule this file defines",
+                        fixes=_undefined_fixes(grammar, name, argument.span, None, close),
+                        data={"name": name},
                     )
+
+
+def _undefined_fixes(
+    grammar: Grammar, name: str, where: Span, user: Rule | None, nearest: list[str]
+) -> list[Fix]:
+    """Define the rule (after the rule that uses it, or at the end), or use a name that exists."""
+    text = grammar.source.text
+    at = len(text)
+    if user is not None:
+        end = line_end(text, user.span.end)
+        rest = text[user.span.end : end]
+        if not rest.strip() or rest.lstrip().startswith("#"):  # nothing else on its last line
+            at = end
+    if at == len(text):
+        insert = ("\n" if text and not text.endswith("\n") else "") + f"<{name}> ::= ''\n"
+    else:
+        insert = f"\n<{name}> ::= ''"
+    fixes = [Fix(f"Define <{name}>", (TextEdit(Span(at, at), insert),), Applicability.UNSAFE)]
+    fixes += [
+        Fix(f"Replace with <{n}>", (TextEdit(where, f"<{n}>"),), Applicability.UNSAFE, preferred=i == 0)
+        for i, n in enumerate(nearest)
+    ]
+    return fixes
 
 
 def duplicate_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
@@ -55,7 +95,41 @@ def duplicate_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnosti
                 rule.name_span,
                 rule=rule.name,
                 hint="merge the alternatives into one rule with |, or rename one of them",
+                fixes=_duplicate_fixes(grammar, original, rule),
+                data={"name": rule.name},
             )
+
+
+def _duplicate_fixes(grammar: Grammar, original: Rule, duplicate: Rule) -> list[Fix]:
+    """Merge the ignored definition's alternatives into the first one, or delete it."""
+    text = grammar.source.text
+    gone = _rule_removal(text, duplicate)
+    fixes = []
+    # Text added after an unterminated string would be part of it.
+    open_string = any(d.code.code == "GG102" and d.span.end == original.span.end for d in grammar.diagnostics)
+    if duplicate.alternatives and not duplicate.annotations and not open_string:
+        alternatives = text[duplicate.alternatives[0].span.start : duplicate.span.end]
+        joined = f" | {alternatives}" if original.alternatives else f" {alternatives}"
+        end = original.span.end
+        while end > original.span.start and text[end - 1] in " \t":  # a rule's text keeps its trailing spaces
+            end -= 1
+        at = Span(end, end)
+        fixes.append(
+            Fix(
+                f"Merge its alternatives into the first <{duplicate.name}>",
+                (TextEdit(at, joined), TextEdit(gone, "")),
+                Applicability.UNSAFE,
+                preferred=True,
+            )
+        )
+    fixes.append(Fix("Delete this definition", (TextEdit(gone, ""),), Applicability.UNSAFE, not fixes))
+    return fixes
+
+
+def _rule_removal(text: str, rule: Rule) -> Span:
+    """A rule with its annotations, and its lines if nothing else is on them."""
+    start = min([rule.span.start, *(a.span.start for a in rule.annotations)])
+    return removal(text, start, rule.span.end)
 
 
 def unproductive_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
@@ -95,15 +169,64 @@ def unreachable_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnos
     if cfg.start is None:
         return
     start = cfg.names[cfg.start]
+    unreachable = {
+        rule.name for rule in grammar.rules_by_name.values() if not facts.reachable[cfg.index[rule.name]]
+    }
+    if not unreachable:
+        return
+    # Every definition that uses each unreachable name: deleting a rule must not leave a
+    # reference to it behind (an ignored duplicate of a reachable rule may hold one).
+    users: dict[str, list[Rule]] = {}
+    definitions: dict[str, list[Rule]] = {}
+    for rule in grammar.rules:
+        if rule.name in unreachable:
+            definitions.setdefault(rule.name, []).append(rule)
+        for ref in rule.references():
+            if ref.name in unreachable and ref.name != rule.name:
+                users.setdefault(ref.name, []).append(rule)
     for rule in grammar.rules_by_name.values():
-        if not facts.reachable[cfg.index[rule.name]]:
+        if rule.name in unreachable:
             yield diagnostic(
                 "GG204",
                 f"<{rule.name}> is unreachable: the start rule <{start}> never uses it",
                 rule.name_span,
                 rule=rule.name,
                 hint=f"delete it, or use it from a rule that <{start}> reaches",
+                fixes=_unreachable_fixes(grammar, rule.name, unreachable, users, definitions),
+                data={"name": rule.name},
             )
+
+
+#: A removal that would take more rules with it than this is not offered.
+MAX_REMOVED_WITH = 50
+
+
+def _unreachable_fixes(
+    grammar: Grammar,
+    name: str,
+    unreachable: set[str],
+    users: dict[str, list[Rule]],
+    definitions: dict[str, list[Rule]],
+) -> list[Fix]:
+    """Delete every definition of the rule, and of the unreachable rules that use it (so no
+    reference is left undefined); none if a reachable rule's text uses it."""
+    removed = [name]
+    seen = {name}
+    for current in removed:
+        for user in users.get(current, ()):
+            if user.name in seen:
+                continue
+            if user.name not in unreachable or len(removed) >= MAX_REMOVED_WITH:
+                return []
+            seen.add(user.name)
+            removed.append(user.name)
+    text = grammar.source.text
+    spans = union(_rule_removal(text, rule) for n in removed for rule in definitions[n])
+    others = len(removed) - 1
+    title = f"Remove unreachable <{name}>"
+    if others:
+        title += f" and the {'rule' if others == 1 else f'{others} rules'} using it"
+    return [Fix(title, tuple(TextEdit(s, "") for s in spans), Applicability.UNSAFE, preferred=True)]
 
 
 def unit_rule_chains(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
@@ -167,22 +290,32 @@ def joints(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
         )
         return
     except BackendNotFound:
-        names = ", ".join(backend_names()) or "none"
+        installed = list(backend_names())
+        close = get_close_matches(grammar.backend, installed, n=1, cutoff=0.6)
         yield diagnostic(
             "GG501",
             f"no backend named {grammar.backend!r} is installed",
             where,
-            hint=f"installed backends: {names}",
+            hint=f"installed backends: {', '.join(installed) or 'none'}",
+            fixes=[
+                Fix(f"Replace with {n}", (TextEdit(where, n),), Applicability.UNSAFE, preferred=True)
+                for n in close
+                if backend_annotation.positional()
+            ],
+            data={"backend": grammar.backend},
         )
         return
     catalogue = backend.catalogue
     if catalogue is None:  # the backend takes any joint names
         return
     scale = 1.0 if grammar.units == "deg" else 3.141592653589793 / 180.0
+    annotations = {(a.span.start, a.span.end): a for a in grammar.annotations}
     for joint in grammar.joints:
         known = catalogue.get(joint.joint)
         if known is None:
             suggestion = get_close_matches(joint.joint, catalogue.names, n=1, cutoff=0.5)
+            annotation = annotations.get((joint.span.start, joint.span.end))
+            argument = annotation.positional()[0] if annotation and annotation.positional() else None
             yield diagnostic(
                 "GG502",
                 f"backend {backend.name} has no joint {joint.joint!r}",
@@ -191,6 +324,12 @@ def joints(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
                 hint=f"did you mean {suggestion[0]}?"
                 if suggestion
                 else f"its joints: {', '.join(catalogue.names)}",
+                fixes=[
+                    Fix(f"Replace with {n}", (TextEdit(argument.span, n),), Applicability.UNSAFE, True)
+                    for n in suggestion
+                    if argument is not None
+                ],
+                data={"joint": joint.joint, "backend": backend.name},
             )
             continue
         if joint.limits is not None:
@@ -260,9 +399,8 @@ def lint(grammar: Grammar, facts: GrammarFacts) -> list[Diagnostic]:
     return sorted(found, key=lambda d: (d.span.start, d.code.code))
 
 
-def _suggest(name: str, candidates: dict[str, object]) -> str | None:
+def _nearest(name: str, candidates: dict[str, object]) -> list[str]:
+    """Up to three defined names close to ``name``, closest first."""
     if len(candidates) > 5000:  # difflib is quadratic-ish; keep it cheap on huge grammars
-        close = [c for c in candidates if c.lower() == name.lower()]
-    else:
-        close = get_close_matches(name, list(candidates), n=1, cutoff=0.6)
-    return f"did you mean <{close[0]}>?" if close else None
+        return [c for c in candidates if c.lower() == name.lower()][:3]
+    return get_close_matches(name, list(candidates), n=3, cutoff=0.6)

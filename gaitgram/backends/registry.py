@@ -52,6 +52,12 @@ class BackendSpec:
       evaluator can play, for grammars that evolve the frequency with a
       ``@frequency`` rule (``MotionBatch.frequencies``); None: the backend imposes
       its own, and such grammars are refused.
+    * ``objectives(settings)`` names the components a multi-objective search
+      (``nsga2``) minimises unless told otherwise: the ones the fitness scores;
+      None: every name ``weight_names`` gives.
+    * ``descriptors`` names measured components that tell gaits apart, each with
+      the range it usually falls in, for a quality-diversity archive
+      (``map-elites``) that is not told which to use; None: a run must name them.
     """
 
     name: str
@@ -64,6 +70,8 @@ class BackendSpec:
     version: str = ""
     unviable_fitness: Callable[[Mapping[str, Any], Mapping[str, float] | None], float] | None = None
     cycle_frequencies: tuple[float, float] | None = None
+    objectives: Callable[[Mapping[str, Any]], tuple[str, ...]] | None = None
+    descriptors: Mapping[str, tuple[float, float]] | None = None
 
     def checked_settings(self, settings: Mapping[str, Any]) -> dict[str, Any]:
         """``settings`` checked and normalised; :class:`SettingsError` names the bad key."""

@@ -1,7 +1,11 @@
-"""``gaitgram check``: parse and lint grammars, report like a compiler."""
+"""``gaitgram check``: parse and lint grammars, report like a compiler, and apply fixes."""
 
 from __future__ import annotations
 
+import codecs
+import difflib
+import re
+from collections import Counter
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
@@ -10,17 +14,21 @@ import typer
 from rich.console import Console
 
 from gaitgram import jsonio
-from gaitgram.analysis import check
+from gaitgram.analysis import CheckResult, check
+from gaitgram.analysis.fixes import FixOutcome, fix_source
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.cli.output import as_json, effective_severity, human, plural, print_source_error
+from gaitgram.cli.sarif import CheckedFile, sarif_log
 from gaitgram.diagnostics import Severity
+from gaitgram.fileio import write_output
 from gaitgram.language import SourceError, parse
-from gaitgram.language.source import read_source
+from gaitgram.language.source import decode_source, describe_os_error, read_bytes
 
 
 class OutputFormat(StrEnum):
     HUMAN = "human"
     JSON = "json"
+    SARIF = "sarif"
 
 
 def command(
@@ -28,44 +36,166 @@ def command(
         list[Path], typer.Argument(help="Grammar files (.gg, .bnf, .pybnf).", show_default=False)
     ],
     output_format: Annotated[
-        OutputFormat, typer.Option("--format", "-f", help="human for people, json for tools.")
+        OutputFormat,
+        typer.Option("--format", "-f", help="human for people, json for tools, sarif for code scanning."),
     ] = OutputFormat.HUMAN,
     strict: Annotated[bool, typer.Option("--strict", help="Treat warnings as errors.")] = False,
+    fix: Annotated[
+        bool, typer.Option("--fix", help="Apply the safe fixes to the files, then report what remains.")
+    ] = False,
+    unsafe_fixes: Annotated[
+        bool,
+        typer.Option(
+            "--unsafe-fixes",
+            help="With --fix or --diff, also apply the preferred fix of problems that have no safe one.",
+        ),
+    ] = False,
+    diff: Annotated[
+        bool, typer.Option("--diff", help="Change nothing; print the fixes --fix would make as a diff.")
+    ] = False,
     defines: Defines = None,
 ) -> None:
     """Check grammars for syntax errors, undefined, unproductive and unreachable rules, bad ranges and joints.
 
-    Exit status: 0 no errors, 1 errors found, 2 a file could not be read or the command line is wrong.
+    Exit status: 0 no errors, 1 errors found, 2 a file could not be read or written, or the command
+    line is wrong. With --diff: 0 nothing to fix, 1 a file would change, 2 as above.
     """
     values = parse_defines(defines)
     out = Console(highlight=False, soft_wrap=True, markup=False)
     err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
+    if unsafe_fixes and not (fix or diff):
+        raise typer.BadParameter("--unsafe-fixes needs --fix or --diff", param_hint="--unsafe-fixes")
+    if diff and output_format is not OutputFormat.HUMAN:
+        raise typer.BadParameter(f"--diff prints a diff, not {output_format.value}", param_hint="--format")
+    fixing = fix or diff
     counts = dict.fromkeys(Severity, 0)
     records: list[dict[str, object]] = []
-    unreadable = 0
+    checked: list[CheckedFile] = []
+    unreadable: list[SourceError] = []
+    failed = fixed_files = fixed_problems = unsafe_left = 0
     for path in files:
         try:
-            source = read_source(path)
+            data = read_bytes(path)
+            source = decode_source(data, str(path))
         except SourceError as error:
-            unreadable += 1
+            unreadable.append(error)
             print_source_error(err, error)
             continue
-        result = check(parse(source, defines=values))
-        for diagnostic in result.diagnostics:
-            counts[effective_severity(diagnostic, strict=strict)] += 1
-            if output_format is OutputFormat.JSON:
-                records.append(as_json(diagnostic, source, strict=strict))
-            else:
-                out.print(human(diagnostic, source, strict=strict))
+        if fixing:
+            outcome = fix_source(source, defines=values, unsafe=unsafe_fixes)
+            result = outcome.result
+            unsafe_left += outcome.unsafe_available
+            written = True
+            if outcome.changed:
+                if diff:
+                    out.out(_diff(str(path), outcome), end="")
+                elif not _write(err, path, data, outcome):
+                    failed += 1
+                    written = False
+                    result = check(parse(source, defines=values))  # what is in the file
+            if written and outcome.applied:
+                fixed_files += 1
+                fixed_problems += len(outcome.applied)
+                if not diff:
+                    for applied in outcome.applied:
+                        where = f"{path}:{applied.location.line}:{applied.location.column}"
+                        err.print(f"fixed {where}: {applied.code.code} {applied.title}")
+            if diff:
+                continue
+        else:
+            result = check(parse(source, defines=values))
+        _report(out, result, output_format, strict, counts, records, checked)
 
     if output_format is OutputFormat.JSON:
         out.out(jsonio.dumps(records, indent=2))
-    else:
-        err.print(_summary(counts, len(files) - unreadable, unreadable), style=_style(counts, unreadable))
-    if unreadable:
+    elif output_format is OutputFormat.SARIF:
+        out.out(jsonio.dumps(sarif_log(checked, unreadable, strict=strict), indent=2))
+    summary = _summary(counts, len(files) - len(unreadable), len(unreadable))
+    if fixing:
+        summary = _fix_summary(fixed_problems, fixed_files, unsafe_left, failed, dry_run=diff) + (
+            "" if diff else f"; {summary or 'nothing checked'}"
+        )
+    if output_format is OutputFormat.HUMAN or fixing:
+        err.print(summary, style=_style(counts, len(unreadable) + failed))
+    if unreadable or failed:
         raise typer.Exit(2)
+    if diff:
+        raise typer.Exit(1 if fixed_problems else 0)
     if counts[Severity.ERROR]:
         raise typer.Exit(1)
+
+
+def _report(
+    out: Console,
+    result: CheckResult,
+    output_format: OutputFormat,
+    strict: bool,
+    counts: dict[Severity, int],
+    records: list[dict[str, object]],
+    checked: list[CheckedFile],
+) -> None:
+    source = result.grammar.source
+    for diagnostic in result.diagnostics:
+        counts[effective_severity(diagnostic, strict=strict)] += 1
+        if output_format is OutputFormat.JSON:
+            records.append(as_json(diagnostic, source, strict=strict))
+        elif output_format is OutputFormat.HUMAN:
+            out.print(human(diagnostic, source, strict=strict))
+    if output_format is OutputFormat.SARIF:
+        checked.append(CheckedFile(source.name, source, result.diagnostics))
+
+
+def _write(err: Console, path: Path, read: bytes, outcome: FixOutcome) -> bool:
+    """Write the fixed text over ``path``, as it was read (byte order mark, line breaks) but
+    for the fixes; refused if the file changed since it was read. False if not written."""
+    try:
+        if not path.is_file():  # a FIFO or /dev/fd/N read fine, but there is no file to rewrite
+            raise OSError(0, "not a regular file")
+        if read_bytes(path) != read:
+            err.print(
+                f"error: {path} changed while it was being fixed; not written (run the command again)",
+                style="bold red",
+            )
+            return False
+        write_output(path, _as_read(read, outcome.original.text, outcome.text))
+    except SourceError as error:
+        err.print(f"error: cannot write {path}: {error.message}", style="bold red")
+        return False
+    except OSError as error:
+        err.print(f"error: cannot write {path}: {describe_os_error(error)}", style="bold red")
+        return False
+    return True
+
+
+_RAW_LINE = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+$")
+_LINE = re.compile(r"[^\n]*\n|[^\n]+$")
+_NEWLINE = re.compile(r"\r\n|\r|\n")
+
+
+def _as_read(read: bytes, before: str, after: str) -> bytes:
+    """``after`` (newline-normalised, as the fixes were made) with the layout of the file as read:
+    its byte order mark, and the line breaks of the lines the fixes left alone (new lines get
+    the file's most common line break)."""
+    bom = codecs.BOM_UTF8 if read.startswith(codecs.BOM_UTF8) else b""
+    raw = read[len(bom) :].decode("utf-8")
+    if "\r" not in raw:
+        return bom + after.encode("utf-8")
+    newline = Counter(_NEWLINE.findall(raw)).most_common(1)[0][0]
+    # Normalising newlines maps each line break to one "\n", so the lines correspond one to one.
+    raw_lines, old_lines, new_lines = _RAW_LINE.findall(raw), _LINE.findall(before), _LINE.findall(after)
+    parts: list[str] = []
+    matcher = difflib.SequenceMatcher(None, old_lines, new_lines, autojunk=False)
+    for tag, i1, i2, j1, j2 in matcher.get_opcodes():
+        if tag == "equal":
+            parts += raw_lines[i1:i2]
+        else:
+            parts += [line.replace("\n", newline) for line in new_lines[j1:j2]]
+    return bom + "".join(parts).encode("utf-8")
+
+
+def _diff(path: str, outcome: FixOutcome) -> str:
+    before, after = _LINE.findall(outcome.original.text), _LINE.findall(outcome.text)
+    return "".join(difflib.unified_diff(before, after, path, path))
 
 
 def _summary(counts: dict[Severity, int], checked: int, unreadable: int) -> str:
@@ -79,6 +209,19 @@ def _summary(counts: dict[Severity, int], checked: int, unreadable: int) -> str:
     if unreadable:
         parts.append(f"{plural(unreadable, 'file')} could not be read")
     return "; ".join(parts)
+
+
+def _fix_summary(problems: int, files: int, unsafe_left: int, failed: int, *, dry_run: bool) -> str:
+    """``fixed 3 problems in 2 files (2 more fixes with --unsafe-fixes); 1 file could not be written``."""
+    verb = "would fix" if dry_run else "fixed"
+    text = f"{verb} {plural(problems, 'problem')} in {plural(files, 'file')}"
+    if not problems:
+        text = "fixed nothing" if failed else "nothing to fix"
+    if unsafe_left:
+        text += f" ({unsafe_left} more {'fix' if unsafe_left == 1 else 'fixes'} with --unsafe-fixes)"
+    if failed:
+        text += f"; {plural(failed, 'file')} could not be written"
+    return text
 
 
 def _style(counts: dict[Severity, int], unreadable: int) -> str:

@@ -1,8 +1,10 @@
-"""``gaitgram evolve``: run GE on a grammar, with progress, checkpoints and a verified resume."""
+"""``gaitgram evolve``: search a grammar's gaits (GE, or another strategy), with progress, checkpoints
+and a verified resume."""
 
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -17,8 +19,11 @@ from gaitgram.evolution.config import ConfigError, RunConfig, load_config, with_
 from gaitgram.evolution.engine import CheckpointError, GenerationStats, load_checkpoint
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
 from gaitgram.evolution.session import run_session, stop_on_interrupt
+from gaitgram.extras import MissingExtra
 from gaitgram.language.source import SourceError, read_source
 from gaitgram.pipeline import Pipeline, PipelineError
+from gaitgram.strategies.api import StrategyError
+from gaitgram.strategies.registry import load_strategy
 
 
 def fail(message: str, code: int = 2) -> typer.Exit:
@@ -46,6 +51,13 @@ def command(
         str | None,
         typer.Option(help="Fitness backend (default: the grammar's @backend, else mujoco-horse)."),
     ] = None,
+    strategy: Annotated[
+        str | None,
+        typer.Option(
+            help="Search strategy: ge (default), random, cma-es, nsga2, map-elites, or a plug-in's "
+            "(docs/strategies.md)."
+        ),
+    ] = None,
     threads: Annotated[
         int | None,
         typer.Option(min=1, help="Simulation threads, for backends that use them (default: all cores)."),
@@ -70,7 +82,8 @@ def command(
     ] = False,
     defines: Defines = None,
 ) -> None:
-    """Evolve gaits with GE (the paper's Table 1 parameters by default).
+    """Evolve gaits with GE (the paper's Table 1 parameters by default), or search them with another
+    strategy at the same budget (--strategy).
 
     Every generation is checkpointed: Ctrl-C stops cleanly after the current one, and --resume
     continues to exactly the result of an uninterrupted run. A resume refuses any grammar, --define,
@@ -78,6 +91,7 @@ def command(
     """
     flags = {"generations": generations, "population": population, "runs": runs, "seed": seed}
     flags["backend"] = backend
+    flags["strategy"] = strategy
     given = {k: v for k, v in flags.items() if v is not None}
     try:
         if resume is not None:
@@ -88,6 +102,7 @@ def command(
                 raise typer.BadParameter("give a grammar to evolve, or --resume DIR", param_hint="GRAMMAR")
             values = parse_defines(defines)
             pipeline = Pipeline.build(load_usable(grammar, values), load_config(config, given))
+            load_strategy(pipeline)  # its library is installed, before anything is written
         # Everything is checked and the backend loaded before a new run directory is made.
         evaluator = _evaluator(pipeline, _runtime(pipeline, threads), scheduler, dask_local)
         if resume is None:
@@ -101,7 +116,7 @@ def command(
             except RunDirectoryError:
                 evaluator.close()
                 raise
-    except (ConfigError, PipelineError, RunDirectoryError, CheckpointError) as error:
+    except (ConfigError, PipelineError, RunDirectoryError, CheckpointError, MissingExtra) as error:
         raise fail(str(error)) from None
 
     run_config = directory.config
@@ -147,7 +162,7 @@ def command(
                 on_generation=on_generation,
                 should_stop=should_stop,
             )
-    except (CheckpointError, PipelineError) as error:
+    except (CheckpointError, PipelineError, StrategyError) as error:
         raise fail(str(error)) from None
     except OSError as error:  # a full disk, a directory gone: the last checkpoint is intact
         where = error.filename or directory.path
@@ -197,6 +212,8 @@ def _resume(
         given = load_config(config, flags)
     elif flags:
         given = with_overrides(directory.config, **flags)
+        if given.strategy != directory.config.strategy:  # another strategy: its own default settings
+            given = replace(given, strategy_settings={})
     found += directory.differences(
         grammar=source, defines=parse_defines(defines) if defines else None, config=given
     )
@@ -206,6 +223,7 @@ def _resume(
             + "\n  - ".join(found)
             + "\nresume with no grammar or flags (the run keeps its own), or start a new run with --out"
         )
+    load_strategy(directory.pipeline)  # its library is installed, to read the strategy's state
     for run, checkpoint in enumerate(directory.checkpoints):  # all of them, before anything runs
         if checkpoint.exists():
             load_checkpoint(checkpoint, directory.pipeline, fingerprint=directory.fingerprint, run=run)

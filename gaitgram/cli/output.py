@@ -8,7 +8,7 @@ from rich.cells import cell_len
 from rich.console import Console
 from rich.text import Text
 
-from gaitgram.diagnostics import Diagnostic, Severity
+from gaitgram.diagnostics import Diagnostic, Severity, TextEdit
 from gaitgram.language.source import SourceError, SourceText
 
 _STYLES = {Severity.ERROR: "bold red", Severity.WARNING: "bold yellow", Severity.INFO: "bold cyan"}
@@ -51,7 +51,11 @@ def human(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False) -
 
 
 def as_json(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False) -> dict[str, Any]:
-    """One diagnostic as JSON; lines and columns are 1-based, ``end_column`` is exclusive."""
+    """One diagnostic as JSON; lines and columns are 1-based, ``end_column`` is exclusive.
+
+    ``fixes`` lists its fixes (``applicability`` safe or unsafe), each edit replacing the text
+    between its positions, in the file as read, with ``text``; ``data`` names what it is about.
+    """
     start = source.location(diagnostic.span.start)
     end = source.location(diagnostic.span.end)
     return {
@@ -66,6 +70,27 @@ def as_json(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False)
         "end_line": end.line,
         "end_column": end.column,
         "hint": diagnostic.hint,
+        "data": dict(diagnostic.data),
+        "fixes": [
+            {
+                "title": fix.title,
+                "applicability": fix.applicability.value,
+                "preferred": fix.preferred,
+                "edits": [_json_edit(edit, source) for edit in fix.edits],
+            }
+            for fix in diagnostic.fixes
+        ],
+    }
+
+
+def _json_edit(edit: TextEdit, source: SourceText) -> dict[str, Any]:
+    start, end = source.location(edit.span.start), source.location(edit.span.end)
+    return {
+        "line": start.line,
+        "column": start.column,
+        "end_line": end.line,
+        "end_column": end.column,
+        "text": edit.text,
     }
 
 

@@ -4,13 +4,22 @@ from __future__ import annotations
 
 import contextlib
 import json
+import os
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from gaitgram.cli.common import err, require_extra
-from gaitgram.study.report import ArmRecord, ReportError, load_arm, load_study_arms, write_study_report
+from gaitgram.strategies.gallery import GalleryError
+from gaitgram.study.report import (
+    ArmRecord,
+    ReportError,
+    load_arm,
+    load_study_arms,
+    write_gallery,
+    write_study_report,
+)
 
 
 def arms_of(directories: list[Path]) -> tuple[list[ArmRecord], str]:
@@ -42,6 +51,21 @@ def command(
     ],
     out: Annotated[Path, typer.Option("--out", "-o", help="Where to write the report.")] = Path("report"),
     force: Annotated[bool, typer.Option("--force", help="Overwrite an existing report.")] = False,
+    gaits: Annotated[
+        int,
+        typer.Option(
+            min=0,
+            help="Animate this many gaits per nsga2 or map-elites arm: trade-offs spread along the "
+            "front, repertoire cells spread along the first descriptor (mujoco-horse; slow).",
+        ),
+    ] = 0,
+    cell: Annotated[
+        list[str] | None,
+        typer.Option(
+            metavar="I,J",
+            help="Animate the best gait of this repertoire cell (repeatable; see archive-*.png).",
+        ),
+    ] = None,
 ) -> None:
     """Tables, statistics and figures over runs, like the paper's and more.
 
@@ -49,15 +73,23 @@ def command(
     median with a bootstrap interval, viable-only average, unviable share and walk rate; every
     difference tested (Kruskal-Wallis, pairwise Mann-Whitney U with Holm, Vargha-Delaney A12);
     convergence figures with confidence bands. Writes summary.md (also printed), summary.csv,
-    summary.json, tables.tex, convergence.png and convergence.svg.
+    summary.json, tables.tex, convergence.png and convergence.svg; front-ARM.png (Pareto fronts,
+    objectives pairwise) for nsga2 arms and archive-ARM.png (the repertoire as heat maps) for
+    map-elites arms; with --gaits or --cell, GIFs of chosen gaits (docs/strategies.md).
     """
     require_extra("matplotlib", "reports")
     require_extra("scipy", "reports")
+    chosen = [_cell(text) for text in cell or []]
+    if gaits or chosen:
+        os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is imported
+        require_extra("PIL", "animations")
     try:
         arms, title = arms_of(directories)
         out.mkdir(parents=True, exist_ok=True)
-        written = write_study_report(arms, out, title=title, force=force)
-    except ReportError as error:
+        written = write_study_report(arms, out, title=title, force=force, chosen=chosen, gaits=gaits)
+        if gaits or chosen:
+            written += write_gallery(arms, out, gaits=gaits, chosen=chosen)
+    except (ReportError, GalleryError) as error:
         err.print(f"error: {error}", style="bold red")
         raise typer.Exit(2) from None
     except OSError as error:
@@ -65,3 +97,12 @@ def command(
         raise typer.Exit(2) from None
     typer.echo((out / "summary.md").read_text(encoding="utf-8"), nl=False)
     err.print("wrote " + ", ".join(str(p) for p in written))
+
+
+def _cell(text: str) -> tuple[int, ...]:
+    parts = text.replace(" ", "").split(",")
+    if not 1 <= len(parts) <= 2 or not all(p.isdigit() for p in parts):
+        raise typer.BadParameter(
+            f"{text!r}: give a cell as I,J (column, row of archive-*.png)", param_hint="--cell"
+        )
+    return tuple(int(p) for p in parts)

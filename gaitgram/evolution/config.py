@@ -76,6 +76,9 @@ class RunConfig:
     backend: str | None = None  # None: the grammar's @backend, else mujoco-horse
     backend_settings: Mapping[str, Any] = field(default_factory=dict)
     weight_schedule: tuple[WeightStage, ...] = ()
+    #: The search strategy (docs/strategies.md) and its settings; GE's loop by default.
+    strategy: str = "ge"
+    strategy_settings: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for key, (low, high) in LIMITS.items():
@@ -124,21 +127,13 @@ class RunConfig:
         lines = ["# gaitgram evolve: the resolved configuration of this run", ""]
         for f in fields(self):
             value = getattr(self, f.name)
-            if f.name in ("backend_settings", "weight_schedule") or value is None:
+            if f.name in _TABLES or value is None:
+                continue
+            if f.name == "strategy" and value == "ge":  # the default: a GE run's file is what it always was
                 continue
             lines.append(f"{f.name} = {_toml_value(value)}")
-        if self.backend_settings:
-            lines += ["", "[backend_settings]"]
-            lines += [
-                f"{_key(k)} = {_toml_value(v)}"
-                for k, v in self.backend_settings.items()
-                if not isinstance(v, Mapping)
-            ]
-            for k, v in self.backend_settings.items():
-                if isinstance(v, Mapping):
-                    lines += ["", f"[backend_settings.{_key(k)}]"] + [
-                        f"{_key(kk)} = {_toml_value(vv)}" for kk, vv in v.items()
-                    ]
+        for table in ("backend_settings", "strategy_settings"):
+            lines += _toml_table(table, getattr(self, table))
         for stage in self.weight_schedule:
             lines += ["", "[[weight_schedule]]", f"start = {stage.start}"]
             lines += [f"weights.{_key(k)} = {_toml_value(v)}" for k, v in stage.weights.items()]
@@ -148,6 +143,22 @@ class RunConfig:
         data = asdict(self)
         data["codons"] = self.codons.value
         return data
+
+
+#: Fields written as tables of their own, after the plain keys.
+_TABLES = ("backend_settings", "weight_schedule", "strategy_settings")
+
+
+def _toml_table(name: str, table: Mapping[str, Any]) -> list[str]:
+    """A settings table: plain keys first, then one sub-table per nested table."""
+    if not table:
+        return []
+    lines = ["", f"[{name}]"]
+    lines += [f"{_key(k)} = {_toml_value(v)}" for k, v in table.items() if not isinstance(v, Mapping)]
+    for k, v in table.items():
+        if isinstance(v, Mapping):
+            lines += ["", f"[{name}.{_key(k)}]"] + [f"{_key(kk)} = {_toml_value(vv)}" for kk, vv in v.items()]
+    return lines
 
 
 def _show(number: float) -> str:
@@ -211,7 +222,7 @@ def load_config(path: Path | None, overrides: Mapping[str, Any] | None = None) -
         values[key] = value
     flags = {k: v for k, v in (overrides or {}).items() if v is not None}
     for key, value in flags.items():
-        if key == "backend_settings":  # flags add to the file's backend table
+        if key in ("backend_settings", "strategy_settings"):  # flags add to the file's table
             values[key] = {**values.get(key, {}), **value}
         else:
             values[key] = value
@@ -228,10 +239,10 @@ def config_from_mapping(values: Mapping[str, Any], where: str) -> RunConfig:
             raise ConfigError(f"{where}: unknown key {key!r}{_suggest(key, _FIELDS)}")
         if key == "weight_schedule":
             converted[key] = _schedule(value, where)
-        elif key == "backend_settings":
+        elif key in ("backend_settings", "strategy_settings"):
             if not isinstance(value, Mapping):
-                raise ConfigError(f"{where}: backend_settings: must be a table [backend_settings]")
-            _check_finite(value, f"{where}: [backend_settings]")
+                raise ConfigError(f"{where}: {key}: must be a table [{key}]")
+            _check_finite(value, f"{where}: [{key}]")
             converted[key] = dict(value)
         elif key == "codons":
             try:
@@ -275,8 +286,8 @@ def _typed(key: str, value: Any, where: str) -> Any:
         raise ConfigError(f"{where}: {key}: must be {article} {expected.__name__}, not {value!r}")
     if isinstance(value, float) and not math.isfinite(value):
         raise ConfigError(f"{where}: {key}: must be a finite number, not {value}")
-    if key == "backend" and not value.strip():
-        raise ConfigError(f"{where}: backend: must name a backend, not an empty string")
+    if key in ("backend", "strategy") and not value.strip():
+        raise ConfigError(f"{where}: {key}: must name a {key}, not an empty string")
     return value
 
 
@@ -318,10 +329,11 @@ def differences(saved: RunConfig, given: RunConfig, *, ignore: frozenset[str] = 
     found = []
     for f in fields(RunConfig):
         a, b = getattr(saved, f.name), getattr(given, f.name)
-        if f.name == "backend_settings":
+        if f.name in ("backend_settings", "strategy_settings"):
+            skip = ignore if f.name == "backend_settings" else frozenset()
             for key in sorted(set(a) | set(b)):
-                if key not in ignore and a.get(key) != b.get(key):
-                    found.append(f"backend_settings.{key}: {a.get(key)!r} -> {b.get(key)!r}")
+                if key not in skip and a.get(key) != b.get(key):
+                    found.append(f"{f.name}.{key}: {a.get(key)!r} -> {b.get(key)!r}")
         elif a != b:
             found.append(f"{f.name}: {a!r} -> {b!r}")
     return found

@@ -9,6 +9,14 @@ A checkpoint is untrusted input when it is read back: it carries a digest of
 its content and the fingerprint of the run it belongs to, and every field is
 checked, so a hand-edited, truncated or foreign checkpoint is refused as
 corrupt instead of resuming into different results.
+
+The loop itself (:func:`run_evolution`) drives any search strategy
+(:mod:`gaitgram.strategies`) by ask and tell; GE's own generation is
+:func:`initial_state` and :func:`step`. A strategy's memory (a library's
+optimiser state) is pickled beside the checkpoint, in a file named by the
+generation, and the checkpoint records that file's digest: a kill between the
+two writes leaves the previous checkpoint naming the previous file, intact.
+Unpickling runs code, so resume only run directories you made or trust.
 """
 
 from __future__ import annotations
@@ -16,6 +24,8 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import pickle
+import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -29,6 +39,7 @@ from gaitgram.fileio import write_atomically
 from gaitgram.ge.initialisation import ramped_population
 from gaitgram.ge.operators import Genome, elite, int_flip_mutation, one_point_crossover, tournament
 from gaitgram.pipeline import Individual, Pipeline
+from gaitgram.strategies.api import RunContext, Strategy, StrategyError
 
 __all__ = [
     "ENGINE_REVISION",
@@ -36,12 +47,19 @@ __all__ = [
     "GenerationStats",
     "Individual",
     "RunState",
+    "advance",
+    "begin",
+    "elites_of",
     "generation_stats",
+    "initial_genomes",
     "initial_state",
     "load_checkpoint",
+    "next_population",
+    "offspring",
     "run_evolution",
     "run_seed",
     "save_checkpoint",
+    "scores_change",
     "step",
 ]
 
@@ -103,6 +121,8 @@ class RunState:
     population: list[Individual]
     rng: np.random.Generator
     history: list[GenerationStats]
+    #: The strategy's own state (None for GE): pickled beside the checkpoint.
+    memory: Any = None
 
     @property
     def best(self) -> Individual:
@@ -116,31 +136,56 @@ def run_seed(seed: int, runs: int, run: int) -> np.random.SeedSequence:
 
 
 def initial_state(pipeline: Pipeline, evaluator: Evaluator, run: int) -> RunState:
+    """GE's generation 0: a ramped population, evaluated."""
     config = pipeline.config
     rng = np.random.default_rng(run_seed(config.seed, config.runs, run))
+    population = pipeline.evaluate(initial_genomes(pipeline, rng, config.population), evaluator, 0)
+    return RunState(0, population, rng, [generation_stats(0, population, len(population))])
+
+
+def initial_genomes(pipeline: Pipeline, rng: np.random.Generator, size: int) -> list[Genome]:
+    """``size`` genomes of random trees, as GE initialises (RampedFullGrow, Table 1)."""
+    config = pipeline.config
     trees = ramped_population(
         pipeline.facts,
         rng,
-        config.population,
+        size,
         max_depth=config.init_max_depth,
         grow_probability=config.grow_probability,
         codons=config.codons,
         codon_size=config.codon_size,
         tail=config.tail,
     )
-    population = pipeline.evaluate([t.genome for t in trees], evaluator, 0)
-    return RunState(0, population, rng, [generation_stats(0, population, len(population))])
+    return [t.genome for t in trees]
 
 
 def step(state: RunState, pipeline: Pipeline, evaluator: Evaluator) -> RunState:
     """One generation: tournament, crossover, mutation, evaluation, elitist generational replacement."""
-    config = pipeline.config
     generation = state.generation + 1
+    genomes = offspring(state, pipeline)
+    evaluated = pipeline.evaluate(genomes, evaluator, generation)
+    new_population = next_population(state, pipeline, evaluated)
+    history = [*state.history, generation_stats(generation, new_population, len(genomes))]
+    return RunState(generation, new_population, state.rng, history)
+
+
+def scores_change(pipeline: Pipeline, generation: int) -> bool:
+    """Whether the same gait scores differently in ``generation`` than in the one before (a joint
+    came free or the weights moved), so that individuals carried over must be scored again."""
+    return pipeline.frozen_at(generation) != pipeline.frozen_at(generation - 1) or pipeline.weights_at(
+        generation
+    ) != pipeline.weights_at(generation - 1)
+
+
+def offspring(state: RunState, pipeline: Pipeline) -> list[Genome]:
+    """What GE evaluates in the next generation: the offspring, after the elites when their
+    scores are stale (:func:`scores_change`)."""
+    config = pipeline.config
     rng, population = state.rng, state.population
     fitness = [i.fitness for i in population]
     n_offspring = config.population - config.elite
     parents = tournament(fitness, rng, size=config.tournament, count=n_offspring + n_offspring % 2)
-    offspring: list[Genome] = []
+    children: list[Genome] = []
     for a, b in zip(parents[::2], parents[1::2], strict=True):
         first, second = population[a], population[b]
         if rng.random() < config.crossover:
@@ -150,29 +195,34 @@ def step(state: RunState, pipeline: Pipeline, evaluator: Evaluator) -> RunState:
             )
         else:
             child_a, child_b = first.genome, second.genome
-        offspring += [child_a, child_b]
-    offspring = offspring[:n_offspring]
+        children += [child_a, child_b]
+    children = children[:n_offspring]
     # Within used: only the codons a child's own mapping reads may flip (PonyGE2's within_used).
     used_counts: list[int | None] = (
-        [m.used_codons for m in pipeline.map(offspring)]
+        [m.used_codons for m in pipeline.map(children)]
         if config.mutation_within_used
-        else [None] * len(offspring)
+        else [None] * len(children)
     )
-    offspring = [
+    children = [
         int_flip_mutation(g, rng, probability=config.mutation, codon_size=config.codon_size, used=used)
-        for g, used in zip(offspring, used_counts, strict=True)
+        for g, used in zip(children, used_counts, strict=True)
     ]
-    elites = [population[i] for i in elite(fitness, config.elite)]
-    changed = pipeline.frozen_at(generation) != pipeline.frozen_at(state.generation) or pipeline.weights_at(
-        generation
-    ) != pipeline.weights_at(state.generation)
-    if changed:  # the elites' scores are stale: a joint came free or the weights moved
-        new_population = pipeline.evaluate([i.genome for i in elites] + offspring, evaluator, generation)
-    else:
-        new_population = elites + pipeline.evaluate(offspring, evaluator, generation)
-    evaluations = len(offspring) + (len(elites) if changed else 0)
-    history = [*state.history, generation_stats(generation, new_population, evaluations)]
-    return RunState(generation, new_population, rng, history)
+    if scores_change(pipeline, state.generation + 1):
+        return [i.genome for i in elites_of(state.population, config.elite)] + children
+    return children
+
+
+def elites_of(population: Sequence[Individual], count: int) -> list[Individual]:
+    """The ``count`` best individuals, best first (ties by position)."""
+    return [population[i] for i in elite([i.fitness for i in population], count)]
+
+
+def next_population(state: RunState, pipeline: Pipeline, evaluated: list[Individual]) -> list[Individual]:
+    """Elitist generational replacement: the elites, then the evaluated offspring (the elites are
+    among ``evaluated`` when :func:`offspring` asked for them to be scored again)."""
+    if scores_change(pipeline, state.generation + 1):
+        return evaluated
+    return elites_of(state.population, pipeline.config.elite) + evaluated
 
 
 # ---- checkpoints -------------------------------------------------------------------------
@@ -187,7 +237,19 @@ def _digest(content: Mapping[str, Any]) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
+#: The file a strategy's memory is pickled to, beside the checkpoint: one per generation.
+_MEMORY_FILE = re.compile(r"^strategy-[0-9]{6}\.pickle$")
+
+
 def save_checkpoint(path: Path, state: RunState, *, fingerprint: str, run: int) -> None:
+    """The state, atomically; a strategy's memory first, to a file of its own that the checkpoint
+    names with its digest (older such files are removed once the checkpoint names the new one)."""
+    memory: dict[str, str] | None = None
+    if state.memory is not None:
+        blob = pickle.dumps(state.memory, protocol=pickle.HIGHEST_PROTOCOL)
+        name = f"strategy-{state.generation:06d}.pickle"
+        write_atomically(path.parent / name, blob)
+        memory = {"file": name, "sha256": hashlib.sha256(blob).hexdigest()}
     content = jsonio.finite_or_none(
         {
             "version": CHECKPOINT_VERSION,
@@ -201,11 +263,19 @@ def save_checkpoint(path: Path, state: RunState, *, fingerprint: str, run: int) 
             "history": [s.as_record() for s in state.history],
         }
     )
+    if memory is not None:  # absent for GE: its checkpoints are what they always were
+        content["strategy_state"] = memory
     write_atomically(path, jsonio.dumps({"digest": _digest(content), "checkpoint": content}))
+    for stale in path.parent.glob("strategy-*.pickle"):
+        if memory is None or stale.name != memory["file"]:
+            stale.unlink(missing_ok=True)
 
 
-def load_checkpoint(path: Path, pipeline: Pipeline, *, fingerprint: str, run: int) -> RunState:
-    """Read a checkpoint back, trusting nothing in it."""
+def load_checkpoint(
+    path: Path, pipeline: Pipeline, *, fingerprint: str, run: int, with_memory: bool = True
+) -> RunState:
+    """Read a checkpoint back, trusting nothing in it. ``with_memory=False`` leaves a strategy's
+    pickled memory unread (None): enough to read the population, without the strategy's library."""
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError) as error:
@@ -213,7 +283,10 @@ def load_checkpoint(path: Path, pipeline: Pipeline, *, fingerprint: str, run: in
     except json.JSONDecodeError as error:
         raise CheckpointError(f"{path}: corrupt checkpoint (not JSON: {error})") from None
     try:
-        return _checked_state(data, pipeline, fingerprint, run)
+        state = _checked_state(data, pipeline, fingerprint, run)
+        if with_memory:
+            state.memory = _memory(data["checkpoint"].get("strategy_state"), path.parent)
+        return state
     except _Corrupt as problem:
         raise CheckpointError(
             f"{path}: corrupt checkpoint: {problem}; it cannot be resumed (restore it from a backup, "
@@ -298,6 +371,33 @@ def _checked_state(data: Any, pipeline: Pipeline, fingerprint: str, run: int) ->
     return RunState(generation, population, rng, history)
 
 
+def _memory(record: Any, directory: Path) -> Any:
+    """The strategy's memory that a (digest-checked) checkpoint names, checked against its digest."""
+    if record is None:
+        return None
+    _expect(
+        isinstance(record, dict)
+        and isinstance(record.get("file"), str)
+        and _MEMORY_FILE.match(record["file"]) is not None
+        and isinstance(record.get("sha256"), str),
+        "its strategy state record is malformed",
+    )
+    try:
+        blob = (directory / record["file"]).read_bytes()
+    except OSError as error:
+        raise _Corrupt(
+            f"its strategy state {record['file']} cannot be read ({error.strerror or error})"
+        ) from None
+    _expect(
+        hashlib.sha256(blob).hexdigest() == record["sha256"],
+        f"its strategy state {record['file']} does not match its digest (edited or damaged)",
+    )
+    try:
+        return pickle.loads(blob)
+    except Exception as error:  # an unpickling failure can be any exception
+        raise _Corrupt(f"its strategy state {record['file']} cannot be unpickled ({error})") from None
+
+
 def _evaluation(record: Any, index: int) -> Evaluation:
     _expect(isinstance(record, dict), f"individual {index} has no evaluation")
     fitness, status = record.get("fitness"), record.get("status")
@@ -337,6 +437,29 @@ def _stats(record: Any, index: int) -> GenerationStats:
     )
 
 
+def advance(strategy: Strategy, context: RunContext, state: RunState, evaluator: Evaluator) -> RunState:
+    """One generation of any strategy: ask, evaluate through the run's pipeline, tell."""
+    pipeline = context.pipeline
+    generation = state.generation + 1
+    genomes = strategy.ask(context, state)
+    evaluated = pipeline.evaluate(genomes, evaluator, generation)
+    population = strategy.tell(context, state, evaluated)
+    if len(population) != pipeline.config.population:
+        raise StrategyError(
+            f"strategy {pipeline.config.strategy!r} returned a population of {len(population)}, "
+            f"not the run's {pipeline.config.population}"
+        )
+    history = [*state.history, generation_stats(generation, population, len(genomes))]
+    return RunState(generation, population, state.rng, history, state.memory)
+
+
+def begin(strategy: Strategy, context: RunContext, evaluator: Evaluator) -> RunState:
+    """Generation 0 of any strategy, from the run's seed."""
+    rng = np.random.default_rng(context.seed)
+    memory = strategy.start(context, rng)
+    return advance(strategy, context, RunState(-1, [], rng, [], memory), evaluator)
+
+
 def run_evolution(
     pipeline: Pipeline,
     evaluator: Evaluator,
@@ -348,22 +471,34 @@ def run_evolution(
     on_generation: Callable[[int, GenerationStats], None] | None = None,
     should_stop: Callable[[], bool] = lambda: False,
 ) -> RunState:
-    """One run, checkpointed to ``run_dir`` after every generation; stops early if asked."""
+    """One run of the config's strategy, checkpointed to ``run_dir`` after every generation; stops
+    early if asked."""
     from gaitgram.evolution.records import write_run_records  # records depend on the engine's types
+    from gaitgram.strategies.registry import load_strategy
 
+    config = pipeline.config
+    strategy = load_strategy(pipeline)
+    context = RunContext(pipeline, run, run_seed(config.seed, config.runs, run))
     checkpoint = run_dir / "checkpoint.json"
+
+    def record(state: RunState) -> None:
+        save_checkpoint(checkpoint, state, fingerprint=fingerprint, run=run)
+        write_run_records(run_dir, pipeline, state)
+        for name, content in strategy.records(context, state).items():
+            write_atomically(run_dir / name, jsonio.dumps(content, indent=1) + "\n")
+        if on_generation:
+            on_generation(run, state.history[-1])
+
     if resume and checkpoint.exists():
         state = load_checkpoint(checkpoint, pipeline, fingerprint=fingerprint, run=run)
+        try:
+            state.memory = strategy.restore(context, state.memory)
+        except StrategyError as error:
+            raise CheckpointError(f"{checkpoint}: {error}; it cannot be resumed") from None
     else:
-        state = initial_state(pipeline, evaluator, run)
-        save_checkpoint(checkpoint, state, fingerprint=fingerprint, run=run)
-        write_run_records(run_dir, pipeline, state)
-        if on_generation:
-            on_generation(run, state.history[-1])
-    while state.generation < pipeline.config.generations and not should_stop():
-        state = step(state, pipeline, evaluator)
-        save_checkpoint(checkpoint, state, fingerprint=fingerprint, run=run)
-        write_run_records(run_dir, pipeline, state)
-        if on_generation:
-            on_generation(run, state.history[-1])
+        state = begin(strategy, context, evaluator)
+        record(state)
+    while state.generation < config.generations and not should_stop():
+        state = advance(strategy, context, state, evaluator)
+        record(state)
     return state

@@ -4,11 +4,14 @@ Layout::
 
     manifest.json   what the run is: digests of grammar.gg and config.toml, the --define values,
                     the backend's name and version, the engine revision, gaitgram's version,
-                    and the run's fingerprint (a digest of all of that)
+                    the search strategy and its version (unless GE), and the run's
+                    fingerprint (a digest of all of that)
     grammar.gg      the grammar text the runs use (a copy: editing the original changes nothing)
     config.toml     the resolved configuration: defaults, file and flags, the backend named and
                     its settings spelt out
-    run-000/ ...    one directory per run: checkpoint.json, stats.csv, stats.jsonl, best.json
+    run-000/ ...    one directory per run: checkpoint.json, stats.csv, stats.jsonl, best.json, and
+                    for strategies other than GE the pickled strategy state the checkpoint
+                    names (strategy-NNNNNN.pickle) and the strategy's records (front.json, ...)
     summary.json    written when every run has finished
 
 Opening a run directory verifies it before anything runs: an edited
@@ -38,6 +41,7 @@ from gaitgram.fileio import write_atomically
 from gaitgram.language import parse
 from gaitgram.language.source import SourceText, decode_source
 from gaitgram.pipeline import Individual, Pipeline, PipelineError
+from gaitgram.strategies.registry import get_strategy
 
 MANIFEST = "manifest.json"
 GRAMMAR = "grammar.gg"
@@ -63,7 +67,7 @@ def identity(pipeline: Pipeline, defines: Mapping[str, int]) -> dict[str, Any]:
     meaning["weight_schedule"] = [
         {"start": s.start, "weights": dict(s.weights)} for s in config.weight_schedule
     ]
-    return {
+    found = {
         "grammar_sha256": _sha256(pipeline.grammar.source.text.encode("utf-8")),
         "defines": dict(sorted(defines.items())),
         "config": meaning,
@@ -71,6 +75,20 @@ def identity(pipeline: Pipeline, defines: Mapping[str, int]) -> dict[str, Any]:
         "backend_version": backend_version(pipeline.backend),
         "engine_revision": ENGINE_REVISION,
     }
+    if _is_plain_ge(config):  # a GE run's identity, and so its fingerprint, is what it always was
+        del meaning["strategy"], meaning["strategy_settings"]
+    else:
+        found["strategy_version"] = strategy_version(config)
+    return found
+
+
+def _is_plain_ge(config: RunConfig) -> bool:
+    return config.strategy == "ge" and not config.strategy_settings
+
+
+def strategy_version(config: RunConfig) -> str:
+    """What a run records of its strategy: the spec's version (its code and library releases)."""
+    return get_strategy(config.strategy).version
 
 
 def fingerprint(pipeline: Pipeline, defines: Mapping[str, int]) -> str:
@@ -130,6 +148,9 @@ class RunDirectory:
             "backend_version": backend_version(pipeline.backend),
             "engine_revision": ENGINE_REVISION,
         }
+        if not _is_plain_ge(pipeline.config):
+            manifest["strategy"] = pipeline.config.strategy
+            manifest["strategy_version"] = strategy_version(pipeline.config)
         try:
             path.mkdir(parents=True, exist_ok=True)
             write_atomically(path / GRAMMAR, grammar_text)
@@ -183,6 +204,13 @@ class RunDirectory:
                 f"{path}: the run was made by engine revision {manifest['engine_revision']}, this gaitgram "
                 f"runs revision {ENGINE_REVISION} (gaitgram {__version__}); results would differ: finish "
                 f"it with gaitgram {manifest['gaitgram_version']}, or start a new run"
+            )
+        saved_strategy = manifest.get("strategy_version")
+        if saved_strategy is not None and saved_strategy != strategy_version(pipeline.config):
+            raise RunDirectoryError(
+                f"{path}: strategy {pipeline.config.strategy!r} has changed since the run started (run: "
+                f"{saved_strategy}; installed: {strategy_version(pipeline.config)}), so the run would "
+                "continue differently; finish it with the versions it started with, or start a new run"
             )
         computed = fingerprint(pipeline, defines)
         if computed != manifest["fingerprint"]:
@@ -289,7 +317,9 @@ def best_of_runs(directory: RunDirectory) -> tuple[int, int, Individual]:
     for run, path in enumerate(directory.checkpoints):
         if not path.exists():
             continue
-        state = load_checkpoint(path, directory.pipeline, fingerprint=directory.fingerprint, run=run)
+        state = load_checkpoint(
+            path, directory.pipeline, fingerprint=directory.fingerprint, run=run, with_memory=False
+        )
         found.append((state.best.fitness, run, state.generation, state.best))
     if not found:
         raise RunDirectoryError(f"{directory.path} has no checkpoint yet: no run has finished a generation")

@@ -7,11 +7,11 @@ does not change. The language server reads this table for completion and hover.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
 from dataclasses import dataclass
+from difflib import get_close_matches
 from enum import StrEnum
 
-from gaitgram.diagnostics import Diagnostic, diagnostic
+from gaitgram.diagnostics import Diagnostic, Fix, TextEdit, diagnostic
 from gaitgram.language.model import Annotation, Argument, ArgumentValue, Interval, Name, RuleRef
 from gaitgram.language.ranges import NUMBER_LIMITS, number_problem, read_number
 
@@ -142,12 +142,18 @@ def check_annotation(annotation: Annotation, problems: list[Diagnostic]) -> Chec
     kind = ANNOTATIONS.get(annotation.name)
     if kind is None:
         known = ", ".join(f"@{n}" for n in ANNOTATIONS)
+        nearest = get_close_matches(annotation.name, list(ANNOTATIONS), n=1, cutoff=0.6)
         problems.append(
             diagnostic(
                 "GG401",
                 f"unknown annotation @{annotation.name}",
                 annotation.name_span,
-                hint=_did_you_mean(annotation.name, ANNOTATIONS) or f"known annotations: {known}",
+                hint=f"did you mean @{nearest[0]}?" if nearest else f"known annotations: {known}",
+                fixes=[
+                    Fix(f"Replace with @{n}", (TextEdit(annotation.name_span, f"@{n}"),), preferred=True)
+                    for n in nearest
+                ],
+                data={"name": annotation.name},
             )
         )
         return CheckedAnnotation(annotation, None, {})
@@ -269,10 +275,3 @@ def _convert(
 
 def _bad(argument: Argument, message: str, hint: str | None) -> Diagnostic:
     return diagnostic("GG402", message, argument.span, hint=hint)
-
-
-def _did_you_mean(word: str, candidates: Iterable[str]) -> str | None:
-    from difflib import get_close_matches
-
-    match = get_close_matches(word, list(candidates), n=1, cutoff=0.6)
-    return f"did you mean @{match[0]}?" if match else None

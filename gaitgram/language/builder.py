@@ -15,14 +15,16 @@ grammar must keep under gaitgram:
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from lark import Token, Tree
 
-from gaitgram.diagnostics import Diagnostic, diagnostic
+from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit, diagnostic
 from gaitgram.language.annotations import CheckedAnnotation, Target, check_annotation
-from gaitgram.language.escapes import unescape
+from gaitgram.language.edits import removal
+from gaitgram.language.escapes import EscapeError, unescape
 from gaitgram.language.lexer import Piece
 from gaitgram.language.model import (
     Alternative,
@@ -44,11 +46,25 @@ from gaitgram.language.model import (
     Terminal,
 )
 from gaitgram.language.parser import scanner, tree_end, tree_start
-from gaitgram.language.ranges import MAX_RANGE_VALUES, exact_int, parse_range, read_number
+from gaitgram.language.ranges import (
+    LOOK_ALIKE_HINT,
+    MAX_RANGE_VALUES,
+    RangeFix,
+    exact_int,
+    look_alike_ranges,
+    parse_range,
+    read_number,
+)
 from gaitgram.language.source import SourceText, Span, unencodable_text
 
 _BLANK = frozenset({"WS", "NEWLINE", "COMMENT"})
 _TEXTUAL = frozenset({"TEXT", "WS"})
+SAFE, UNSAFE = Applicability.SAFE, Applicability.UNSAFE
+
+
+def deletion_fix(text: str, span: Span, title: str) -> Fix:
+    """Delete an item (an annotation, a rule) with its lines, if nothing else is on them."""
+    return Fix(title, (TextEdit(removal(text, span.start, span.end), ""),), UNSAFE, preferred=True)
 
 
 def build_grammar(tree: Tree, source: SourceText, defines: Mapping[str, int] | None = None) -> Grammar:
@@ -78,12 +94,14 @@ def assemble_grammar(
                     f"@{name} is given more than once; the first one counts",
                     extra.annotation.span,
                     hint="delete the extra one",
+                    fixes=[deletion_fix(source.text, extra.annotation.span, f"Delete the extra @{name}")],
+                    data={"annotation": name},
                 )
             )
         return next(iter(found[0].values.values()), None) if found else None
 
     start, backend, units = single("start"), single("backend"), single("units")
-    frequency = _frequency(rules, joints, problems)
+    frequency = _frequency(source.text, rules, joints, problems)
     if not rules and not problems:
         problems.append(
             diagnostic(
@@ -108,7 +126,7 @@ def assemble_grammar(
 
 
 def _frequency(
-    rules: list[Rule], joints: list[JointDecl], problems: list[Diagnostic]
+    text: str, rules: list[Rule], joints: list[JointDecl], problems: list[Diagnostic]
 ) -> FrequencyDecl | None:
     """The grammar's one ``@frequency`` rule, if any: a second one, or one on a joint's rule, is
     GG404. The annotation's arguments were checked with the others; read here, they are re-read
@@ -135,7 +153,17 @@ def _frequency(
                     span=annotation.span,
                 )
                 continue
-            problems.append(diagnostic("GG404", message, annotation.span, rule=rule.name, hint=hint))
+            problems.append(
+                diagnostic(
+                    "GG404",
+                    message,
+                    annotation.span,
+                    rule=rule.name,
+                    hint=hint,
+                    fixes=[deletion_fix(text, annotation.span, "Delete this @frequency")],
+                    data={"annotation": "frequency"},
+                )
+            )
     return found
 
 
@@ -182,6 +210,8 @@ class _Builder:
                         f"@{c.annotation.name} annotates the rule after it, but no rule follows",
                         c.annotation.span,
                         hint="move it above the rule it is about, or delete it",
+                        fixes=[deletion_fix(self.source.text, c.annotation.span, "Delete it")],
+                        data={"annotation": c.annotation.name},
                     )
                 )
 
@@ -214,6 +244,8 @@ class _Builder:
                         extra.span,
                         rule=rule.name,
                         hint="a rule derives one joint's curve; give each joint its own rule",
+                        fixes=[deletion_fix(self.source.text, extra.span, "Delete the extra @joint")],
+                        data={"annotation": "joint"},
                     )
                 )
             if not joint_annotations:
@@ -328,7 +360,7 @@ class _Builder:
             return RuleRef(token[1:-1])
         text, errors = unescape(token[1:-1])
         for error in errors:
-            self._escape_problem(token.start_pos + 1, error.start, error.end, error.message)
+            self._escape_problem(token.start_pos + 1, error)
         return text
 
     # ---- rules ---------------------------------------------------------------------------
@@ -343,6 +375,7 @@ class _Builder:
         end = _content_end(pieces, head.end_pos)
         rule_span = Span(head.start_pos, end)
         if not alternatives:
+            empty = Fix("Derive the empty string ''", (TextEdit(Span(end, end), " ''"),), UNSAFE, True)
             self.problems.append(
                 diagnostic(
                     "GG108",
@@ -350,6 +383,8 @@ class _Builder:
                     name_span,
                     rule=name,
                     hint=f"write <{name}> ::= a | b, or '' for the empty string",
+                    fixes=[empty],
+                    data={"name": name},
                 )
             )
         return Rule(name, tuple(alternatives), rule_span, name_span, tuple(annotations))
@@ -382,6 +417,7 @@ class _Builder:
                 nonblank += 1
                 alternative = self._alternative(rule, trimmed)
                 if nonblank > 1:
+                    at = Span(alternative.span.start, alternative.span.start)
                     self.problems.append(
                         diagnostic(
                             "GG107",
@@ -389,11 +425,14 @@ class _Builder:
                             alternative.span,
                             rule=rule,
                             hint="PonyGE2 reads it that way too; put | before it to say so",
+                            fixes=[Fix("Write the | before it", (TextEdit(at, "| "),), SAFE, True)],
                         )
                     )
                 alternatives.append(alternative)
             if nonblank == 0 and pipes:
                 where = pipes[index] if index < len(pipes) else pipes[index - 1]
+                gone = _pipe_removal(text, where[1], where[2])
+                fixes = [] if gone is None else [Fix("Delete the extra |", (TextEdit(gone, ""),), SAFE, True)]
                 self.problems.append(
                     diagnostic(
                         "GG106",
@@ -401,6 +440,7 @@ class _Builder:
                         Span(where[1], where[2]),
                         rule=rule,
                         hint="delete the extra |, or write '' for an empty string",
+                        fixes=fixes,
                     )
                 )
         return alternatives
@@ -435,6 +475,8 @@ class _Builder:
                     after_newline = False
                 if not value or (i < count and pieces[i][0] == "NEWLINE" and not value.strip(" ")):
                     continue  # spaces next to a line break are not text
+                if "[" in value:
+                    self._look_alikes(rule, value, start)
                 if "\\" in value:
                     value = self._decode(value, start)
             elif kind == "STRING":
@@ -470,6 +512,8 @@ class _Builder:
         if kind == "GE_RANGE":
             return self._ge_range(rule, raw, start, whole=whole) or raw
         if kind == "BAD_STRING":
+            # The text already runs to the end of the line, so a quote there keeps its meaning.
+            close = Fix(f"Close the string with {raw[0]}", (TextEdit(Span(end, end), raw[0]),), SAFE, True)
             self.problems.append(
                 diagnostic(
                     "GG102",
@@ -477,6 +521,7 @@ class _Builder:
                     Span(start, end),
                     rule=rule,
                     hint=f"add the closing {raw[0]} (a string cannot span lines)",
+                    fixes=[close],
                 )
             )
             return self._decode(raw[1:], start + 1)
@@ -486,16 +531,31 @@ class _Builder:
     def _decode(self, raw: str, start: int) -> str:
         value, errors = unescape(raw)
         for error in errors:
-            self._escape_problem(start, error.start, error.end, error.message)
+            self._escape_problem(start, error)
         return value
 
-    def _escape_problem(self, base: int, start: int, end: int, message: str) -> None:
+    def _escape_problem(self, base: int, error: EscapeError) -> None:
+        span = Span(base + error.start, base + error.end)
+        escape = self.source.slice(span)
+        # A bad escape is read as its own text, so doubling its backslash keeps the text.
+        literal = Fix(
+            f"Escape the backslash: \\{escape}",
+            (TextEdit(Span(span.start, span.start), "\\"),),
+            UNSAFE,
+            error.replacement is None,
+        )
+        fixes = [literal]
+        if error.replacement is not None:
+            meant = Fix(f"Write {error.replacement}", (TextEdit(span, error.replacement),), UNSAFE, True)
+            fixes.insert(0, meant)
         self.problems.append(
             diagnostic(
                 "GG103",
-                message,
-                Span(base + start, base + end),
+                error.message,
+                span,
                 hint="write \\\\ for a backslash; escapes are \\n \\t \\xHH \\uHHHH \\N{NAME}",
+                fixes=fixes,
+                data={"escape": escape},
             )
         )
 
@@ -506,10 +566,37 @@ class _Builder:
             span = Span(start + problem.offset, start + problem.offset + max(length, 1))
             if problem.offset == 0 and problem.length is None:
                 span = Span(start, start + len(raw))
+            fix = problem.fix
+            if problem.code == "GG104" and not _no_open_bracket(self.source.text, start):  # it adds a ]
+                fix = None
             self.problems.append(
-                diagnostic(problem.code, problem.message, span, rule=rule, hint=problem.hint)
+                diagnostic(
+                    problem.code,
+                    problem.message,
+                    span,
+                    rule=rule,
+                    hint=problem.hint,
+                    fixes=_range_fixes(fix, start),
+                    data={"range": raw},
+                )
             )
         return spec
+
+    def _look_alikes(self, rule: str, raw: str, start: int) -> None:
+        for found in look_alike_ranges(raw):
+            span = Span(start + found.offset, start + found.offset + found.length)
+            fix = found.fix if found.fix is None or _no_open_bracket(self.source.text, span.start) else None
+            self.problems.append(
+                diagnostic(
+                    "GG309",
+                    found.message,
+                    span,
+                    rule=rule,
+                    hint=LOOK_ALIKE_HINT,
+                    fixes=_range_fixes(fix, span.start),
+                    data={"text": self.source.slice(span), "kind": found.meant},
+                )
+            )
 
     def _ge_range(self, rule: str, raw: str, start: int, *, whole: bool) -> RangeSpec | None:
         span = Span(start, start + len(raw))
@@ -566,6 +653,44 @@ class _Builder:
 
 
 # ---- helpers ---------------------------------------------------------------------------
+
+
+def _range_fixes(fix: RangeFix | None, start: int) -> list[Fix]:
+    """A fix inside a range's text (offsets from its start) as edits of the document."""
+    if fix is None:
+        return []
+    edits = tuple(TextEdit(Span(start + e.offset, start + e.offset + e.length), e.text) for e in fix.edits)
+    return [Fix(fix.title, edits, SAFE if fix.safe else UNSAFE, preferred=True)]
+
+
+#: ``int[`` or ``float[`` with no ``]`` after it, up to the end of the text searched.
+_OPEN_RANGE = re.compile(r"(?:int|float)\[[^\]]*$")
+
+
+def _no_open_bracket(text: str, start: int) -> bool:
+    """Whether no ``int[``/``float[`` before ``start`` on its line is left open: else a ``]``
+    that a fix writes could close that one instead, and swallow everything in between."""
+    return _OPEN_RANGE.search(text, text.rfind("\n", 0, start) + 1, start) is None
+
+
+_AT = re.compile(r"[ \t]*@")
+
+
+def _pipe_removal(text: str, start: int, end: int) -> Span | None:
+    """A ``|`` with the spaces before it on its line, or else those after it; None if what
+    follows would then start its line with ``@`` and so become an annotation."""
+    line_start = text.rfind("\n", 0, start) + 1
+    if not text[line_start:start].strip() and _AT.match(text, end):
+        return None
+    before = start
+    while before > line_start and text[before - 1] in " \t":
+        before -= 1
+    if before < start:
+        return Span(before, end)
+    after = end
+    while after < len(text) and text[after] in " \t":
+        after += 1
+    return Span(start, after)
 
 
 def _trim(segment: list[Piece], text: str) -> list[Piece]:

@@ -45,6 +45,8 @@ class EscapeError:
     start: int
     end: int
     message: str
+    #: The escape to write instead, where one says what was meant (a surrogate pair's \\U escape).
+    replacement: str | None = None
 
 
 def unescape(text: str) -> tuple[str, list[EscapeError]]:
@@ -69,7 +71,11 @@ def unescape(text: str) -> tuple[str, list[EscapeError]]:
             errors.append(EscapeError(match.start(), match.end(), f"invalid escape {escape!r}: {reason}"))
             return escape
         if _SURROGATE.search(decoded):
-            errors.append(EscapeError(match.start(), match.end(), _surrogate_message(escape, decoded)))
+            errors.append(
+                EscapeError(
+                    match.start(), match.end(), _surrogate_message(escape, decoded), _pair_escape(decoded)
+                )
+            )
             return escape
         return decoded
 
@@ -78,6 +84,14 @@ def unescape(text: str) -> tuple[str, list[EscapeError]]:
 
 #: UTF-16 surrogates: code points that are not characters, and that UTF-8 cannot encode.
 _SURROGATE = re.compile("[\ud800-\udfff]")
+
+
+def _pair_escape(decoded: str) -> str | None:
+    """``\\U0001F600`` for a high and a low surrogate, the character UTF-16 would have meant."""
+    if len(decoded) != 2:
+        return None
+    char = decoded.encode("utf-16-le", "surrogatepass").decode("utf-16-le")
+    return f"\\U{ord(char):08X}"
 
 
 def _surrogate_message(escape: str, decoded: str) -> str:

@@ -17,7 +17,7 @@ collapse, or that would need more, is an error, never a list with duplicates.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from decimal import Decimal, Inexact, Rounded, localcontext
 from fractions import Fraction
 from itertools import pairwise
@@ -25,6 +25,7 @@ from itertools import pairwise
 from lark import Token, Tree
 from lark.exceptions import LarkError, UnexpectedCharacters, UnexpectedEOF, UnexpectedToken
 
+from gaitgram.diagnostics import CODES, Severity
 from gaitgram.language.model import RangeKind, RangeSpec
 from gaitgram.language.parser import range_parser
 
@@ -52,6 +53,28 @@ NUMBER_LIMITS = (
 
 
 @dataclass(frozen=True, slots=True)
+class RangeEdit:
+    """Replace ``length`` characters at ``offset`` of a range's text with ``text``."""
+
+    offset: int
+    length: int
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
+class RangeFix:
+    """A fix inside a range's text: the builder turns it into a :class:`~gaitgram.diagnostics.Fix`.
+
+    Only made when the fixed range reads without errors (:func:`_fixed`), so applying it
+    never trades one error for another.
+    """
+
+    title: str
+    edits: tuple[RangeEdit, ...]
+    safe: bool = False
+
+
+@dataclass(frozen=True, slots=True)
 class RangeProblem:
     """What is wrong with a range: a diagnostic code, a message, a hint, and where.
 
@@ -63,6 +86,7 @@ class RangeProblem:
     hint: str | None = None
     offset: int = 0
     length: int | None = None
+    fix: RangeFix | None = None
 
 
 # ---- numbers -------------------------------------------------------------------------------
@@ -216,7 +240,32 @@ def _syntax_problem(text: str, exc: LarkError) -> RangeProblem:
         _RANGE_FORMS,
         offset=position,
         length=1,
+        fix=_unclosed(text, position) if found == "|" else None,
     )
+
+
+def _unclosed(text: str, position: int) -> RangeFix | None:
+    """``int[1..5 | int[7..9]`` is one bracketed token, so one malformed range; the first range
+    was evidently meant to end before the ``|``. The fix closes it there, if that reads, and if
+    what follows the ``|`` is plain text and ranges that read too (so no new error appears)."""
+    before, after = text[:position].rstrip(), text[position + 1 :]
+    if not _PLAIN_REST.fullmatch(after) or not _reads(before + "]"):
+        return None
+    if not all(_reads(match.group()) for match in _RANGE_SHAPE.finditer(after)):
+        return None
+    return RangeFix(f"Close the range before the |: {before}]", (RangeEdit(len(before), 0, "]"),), safe=True)
+
+
+#: What may follow the ``|`` for :func:`_unclosed`: no strings, rules, comments or escapes.
+_PLAIN_REST = re.compile(r"[^'\"<#\\]*")
+#: The lexer's RANGE token (``gaitgram.lark``).
+_RANGE_SHAPE = re.compile(r"(?:int|float)\[[^\]\n]*(?:\.\.|±|\+-)[^\]\n]*\]")
+
+
+def _reads(text: str) -> bool:
+    """Whether a range's text reads without errors."""
+    spec, problems = parse_range(text)
+    return spec is not None and not any(CODES[p.code].severity is Severity.ERROR for p in problems)
 
 
 def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProblem]]:
@@ -245,6 +294,11 @@ def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProble
                     f"empty range {text!r}: the lower bound {numbers[0]} is above the upper bound "
                     f"{numbers[1]}",
                     "swap the bounds",
+                    fix=_fixed(
+                        text,
+                        "Swap the bounds",
+                        (_replace(numbers[0], str(numbers[1])), _replace(numbers[1], str(numbers[0]))),
+                    ),
                 )
             ]
     else:
@@ -296,17 +350,19 @@ def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProble
                 ]
             count = whole
 
+    def to_float() -> RangeFix | None:
+        return _fixed(text, "Make it a float range", (_replace(tree.children[0], "float"),))
+
     if kind is RangeKind.INT:
         if count is not None:
-            return None, [
-                _at(
-                    text,
-                    option.children[0],  # type: ignore[union-attr]
-                    "GG305",
-                    "an int range takes a step, not a count",
-                    hint="use float[... count N], or int[LO..HI step S]",
-                )
-            ]
+            problem = _at(
+                text,
+                option.children[0],  # type: ignore[union-attr]
+                "GG305",
+                "an int range takes a step, not a count",
+                hint="use float[... count N], or int[LO..HI step S]",
+            )
+            return None, [replace(problem, fix=to_float())]
         step = step if step is not None else Decimal(1)
         written = (low, high) if center is None else (center,)
         if any(decimal_places(x) for x in (*written, step)):
@@ -316,6 +372,7 @@ def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProble
                     "GG305",
                     f"int range {text!r} has {what}",
                     "use float[...] for fractional values",
+                    fix=to_float(),
                 )
             ]
     elif step is None and count is None:
@@ -339,7 +396,7 @@ def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProble
         values = _count_values(text, low, high, count, decimals, center is None, problems)
     else:
         assert step is not None
-        values = _step_values(text, low, high, center, step, problems)
+        values = _step_values(text, low, high, center, step, problems, numbers[-1])
     if values is None:
         return None, problems
     return RangeSpec(kind, canonical_text(kind, bounds.data, numbers, option), tuple(values)), problems
@@ -352,6 +409,7 @@ def _step_values(
     center: Decimal | None,
     step: Decimal,
     problems: list[RangeProblem],
+    high_token: Token | None = None,
 ) -> list[str] | None:
     """``low, low+step, ...`` up to ``high``; or, centred, ``center ± k·step`` within the bounds.
 
@@ -371,12 +429,21 @@ def _step_values(
     start, stride = _units(origin, places), _units(step, places)
     units = [start + stride * i for i in range(first, first + size)]
     if center is None and Fraction(units[-1], 10**places) != Fraction(high):
+        last = units_text(units[-1], places)
         problems.append(
             RangeProblem(
                 "GG303",
                 f"the upper bound {_plain(high)} of {text!r} is not on the step grid; "
-                f"the last value is {units_text(units[-1], places)}",
+                f"the last value is {last}",
                 "make the bounds differ by a whole number of steps",
+                fix=None
+                if high_token is None
+                else _fixed(
+                    text,
+                    f"Make the upper bound {last}",
+                    (_replace(high_token, last),),
+                    same_values=[units_text(u, places) for u in units],
+                ),
             )
         )
     if _int_digits(max(low.copy_abs(), high.copy_abs())) + places > MAX_DIGITS:
@@ -489,6 +556,33 @@ def canonical_text(kind: RangeKind, form: str, numbers: list[Token], option: Tre
     return f"{kind}[{inner}]"
 
 
+def _replace(token: Token, text: str) -> RangeEdit:
+    return RangeEdit(token.start_pos or 0, len(token), text)
+
+
+def _fixed(
+    text: str, title: str, edits: tuple[RangeEdit, ...], *, same_values: list[str] | None = None
+) -> RangeFix | None:
+    """The fix, if the range it makes reads without errors (else None: it would not fix it).
+
+    With ``same_values``, a fix whose range derives exactly those values, which keeps every
+    phenotype, so it is safe; else None. Titled with the fixed range, to show the result.
+    """
+    fixed = apply_range_edits(text, edits)
+    spec, problems = parse_range(fixed)
+    if spec is None or any(CODES[p.code].severity is Severity.ERROR for p in problems):
+        return None
+    if same_values is not None and list(spec.values) != same_values:
+        return None
+    return RangeFix(f"{title}: {fixed}", edits, safe=same_values is not None)
+
+
+def apply_range_edits(text: str, edits: tuple[RangeEdit, ...]) -> str:
+    for edit in sorted(edits, key=lambda e: e.offset, reverse=True):
+        text = text[: edit.offset] + edit.text + text[edit.offset + edit.length :]
+    return text
+
+
 def _at(
     text: str, token: Token, code: str, message: str, hint: str | None = None, *, where: bool = True
 ) -> RangeProblem:
@@ -506,3 +600,98 @@ def _too_large(text: str, size: int | None, shown: str | None = None) -> RangePr
         f"range {text!r} has {shown} values; at most {MAX_RANGE_VALUES:,} are allowed",
         "use a coarser step or a smaller count",
     )
+
+
+# ---- text that looks like a range ------------------------------------------------------------
+#
+# PonyGE2 compatibility keeps ``flaot[0..1 step 0.1]`` and an unclosed ``int[1..5`` as plain
+# terminal text (only the exact bracketed shape is a range), so a typo silently turns a
+# choice of values into one fixed string. GG309 says so, with the fix.
+
+_N = r"[+-]?(?:\d+(?:\.\d+)?|\.\d+)(?:[eE][+-]?\d+)?"
+_S = r"[^\S\n]*"
+_LOOK_ALIKE = re.compile(
+    rf"(?<![\w\\])(?P<kind>[A-Za-z_]\w*)\[(?P<body>{_S}{_N}{_S}(?:\.\.|±|\+-){_S}{_N}(?:{_S}%)?"
+    rf"(?:[^\S\n]+(?:step|count)[^\S\n]+{_N})?)(?P<close>{_S}\])?"
+)
+
+#: After a number, more of the same word: ``int[1..5x`` is not an unclosed range.
+_WORD_GOES_ON = re.compile(r"[\w.]")
+
+#: Other languages' names for the two kinds.
+_KIND_ALIASES = {"integer": "int", "double": "float"}
+
+
+@dataclass(frozen=True, slots=True)
+class LookAlike:
+    """Terminal text that looks like a typed range: where (in the text given), why, the fix."""
+
+    offset: int
+    length: int
+    message: str
+    fix: RangeFix | None
+    meant: str  # the range it looks like: int or float
+
+
+LOOK_ALIKE_HINT = "PonyGE2 reads it as plain text too; to keep it as text, quote it ('...')"
+
+
+def look_alike_ranges(text: str) -> list[LookAlike]:
+    """The typed ranges in a run of terminal text that are not ranges: a type name one typo
+    (or a letter's case) away from int or float, or no closing ``]``, before ``LO..HI``."""
+    if "[" not in text:
+        return []
+    found = []
+    for match in _LOOK_ALIKE.finditer(text):
+        word = match["kind"]
+        meant = _kind_meant(word)
+        closed = match["close"] is not None
+        end = match.end() if closed else match.end("body")
+        if meant is None or (word == meant and closed) or (not closed and _WORD_GOES_ON.match(text, end)):
+            continue
+        shown = text[match.start() : end]
+        edits = [] if word == meant else [RangeEdit(0, len(word), meant)]
+        if not closed:
+            edits.append(RangeEdit(end - match.start(), 0, "]"))
+        why = [] if word == meant else [f"{word!r} is not int or float"]
+        if not closed:
+            why.append("it has no closing ]")
+        fixed = apply_range_edits(shown, tuple(edits))
+        # Once a range ends the text run, a GE_RANGE after it is read as one, not as text.
+        usable = _reads(fixed) and "GE_RANGE:" not in text[end:]
+        found.append(
+            LookAlike(
+                match.start(),
+                len(shown),
+                f"{shown!r} looks like a typed range but is plain text: {' and '.join(why)}",
+                RangeFix(f"Make it the range {fixed}", tuple(edits), safe=True) if usable else None,
+                meant,
+            )
+        )
+    return found
+
+
+def _kind_meant(word: str) -> str | None:
+    lower = word.lower()
+    if lower in _KIND_ALIASES:
+        return _KIND_ALIASES[lower]
+    if len(lower) < 3:  # `in[1..5]`, `it[0..1]`: too likely to be meant
+        return None
+    return next((kind for kind in ("int", "float") if _typos(lower, kind) <= 1), None)
+
+
+def _typos(a: str, b: str) -> int:
+    """Edits from ``a`` to ``b`` (insert, delete, replace, swap two neighbours), up to 2."""
+    if abs(len(a) - len(b)) > 1:
+        return 2
+    previous2: list[int] = []
+    previous = list(range(len(b) + 1))
+    for i, x in enumerate(a, 1):
+        current = [i]
+        for j, y in enumerate(b, 1):
+            cost = min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + (x != y))
+            if i > 1 and j > 1 and x == b[j - 2] and a[i - 2] == y:
+                cost = min(cost, previous2[j - 2] + 1)
+            current.append(cost)
+        previous2, previous = previous, current
+    return min(previous[-1], 2)

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import BinaryIO
 
-from gaitgram.diagnostics import Diagnostic, diagnostic
+from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit, diagnostic
 
 
 @dataclass(slots=True, order=True, unsafe_hash=True)
@@ -120,13 +120,24 @@ def unencodable_text(source: SourceText) -> list[Diagnostic]:
         run = match.group()
         points = ", ".join(f"U+{ord(c):04X}" for c in run[:4]) + (", ..." if len(run) > 4 else "")
         what = "a lone UTF-16 surrogate, not a character" if len(run) == 1 else "UTF-16 surrogates"
+        span = Span(match.start(), match.end())
+        fixes = []
+        try:  # pairs of a high and a low surrogate: the characters UTF-16 meant
+            meant = run.encode("utf-16-le", "surrogatepass").decode("utf-16-le")
+        except UnicodeDecodeError:
+            meant = None
+        if meant is not None:
+            shown = ", ".join(f"U+{ord(c):04X}" for c in meant[:4]) + (", ..." if len(meant) > 4 else "")
+            title = f"Join the surrogate pairs into {shown}"
+            fixes.append(Fix(title, (TextEdit(span, meant),), Applicability.UNSAFE, preferred=True))
         problems.append(
             diagnostic(
                 "GG109",
                 f"text that cannot be encoded as UTF-8: {points} ({what})",
-                Span(match.start(), match.end()),
+                span,
                 hint="the text was decoded wrongly somewhere; write a character outside the Basic "
                 "Multilingual Plane as itself, or as an escape such as \\U0001F600",
+                fixes=fixes,
             )
         )
     return problems

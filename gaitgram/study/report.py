@@ -9,7 +9,12 @@ rate, and tests every difference (:mod:`gaitgram.study.stats`). Arms run at
 different budgets are refused: their numbers do not compare.
 
 Written files: ``summary.md``, ``summary.csv``, ``tables.tex`` (booktabs),
-``summary.json``, ``convergence.png`` and ``convergence.svg``.
+``summary.json``, ``convergence.png`` and ``convergence.svg``; for an arm whose
+runs keep a Pareto front (``nsga2``) ``front-ARM.png``, the fronts' objectives
+pairwise, and for one whose runs keep a repertoire (``map-elites``)
+``archive-ARM.png``, its cells as heat maps (:mod:`gaitgram.strategies.figures`);
+on request, animations of chosen trade-off gaits and repertoire cells
+(:func:`write_gallery`).
 """
 
 from __future__ import annotations
@@ -18,6 +23,8 @@ import csv
 import io
 import json
 import math
+import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -26,6 +33,15 @@ import numpy as np
 
 from gaitgram import jsonio
 from gaitgram.fileio import write_atomically
+from gaitgram.strategies.figures import (
+    RecordError,
+    archive_figure,
+    front_figure,
+    load_fronts,
+    load_repertoire,
+    spread_cells,
+    trade_offs,
+)
 from gaitgram.study.stats import Comparison, bootstrap_median_ci, compare
 
 
@@ -86,7 +102,7 @@ def planned_budget(config: dict[str, Any]) -> int:
     return int(config["population"] + config["generations"] * (config["population"] - config["elite"]))
 
 
-def load_arm(path: Path, name: str | None = None, strategy: str = "ge") -> ArmRecord:
+def load_arm(path: Path, name: str | None = None, strategy: str | None = None) -> ArmRecord:
     """An arm from a finished run directory; refuses unfinished or unreadable runs."""
     config_path = path / "config.toml"
     try:
@@ -100,7 +116,7 @@ def load_arm(path: Path, name: str | None = None, strategy: str = "ge") -> ArmRe
         runs.append(_load_run(path / f"run-{run:03d}", int(config["generations"])))
     return ArmRecord(
         name or path.name,
-        strategy,
+        strategy or str(config.get("strategy", "ge")),
         path,
         planned_budget(config),
         int(config["generations"]),
@@ -276,7 +292,7 @@ def _rate(value: float | None) -> str:
     return "n/a" if value is None else f"{value:.0%}"
 
 
-def markdown(report: StudyReport, title: str = "") -> str:
+def markdown(report: StudyReport, title: str = "", extra: Sequence[str] = ()) -> str:
     lines = [f"# {title}", ""] if title else []
     lines += [
         "Final generation, over runs. Fitness is minimised. *Average* is the population's mean over "
@@ -312,6 +328,7 @@ def markdown(report: StudyReport, title: str = "") -> str:
         "A12 is the probability that a run of the first arm ends with a lower (better) value than a "
         "run of the second (0.5: no difference; 0.56, 0.64 and 0.71 mark small, medium and large "
         "effects). p-values are two-sided Mann-Whitney U, Holm-adjusted over the pairs.",
+        *extra,
     ]
     return "\n".join(lines) + "\n"
 
@@ -434,22 +451,114 @@ def convergence_figure(arms: list[ArmRecord]):  # -> matplotlib.figure.Figure
     return figure
 
 
+def figure_name(kind: str, arm: str, suffix: str = ".png") -> str:
+    """A file name for an arm's figure (arm names may be paths)."""
+    return f"{kind}-{re.sub(r'[^A-Za-z0-9_.-]+', '_', arm).strip('_.') or 'arm'}{suffix}"
+
+
+def strategy_lines(arms: list[ArmRecord]) -> list[str]:
+    """The summary's section on fronts and repertoires (empty if no arm keeps either)."""
+    lines: list[str] = []
+    for arm in arms:
+        try:
+            fronts = load_fronts(arm.path)
+            repertoire = load_repertoire(arm.path)
+        except RecordError as error:
+            raise ReportError(str(error)) from None
+        if fronts:
+            names = fronts[0].objectives
+            best = np.mean([f.points.min(axis=0) for f in fronts if len(f.points)], axis=0)
+            sizes = [len(f.points) for f in fronts]
+            lines.append(
+                f"- **{arm.name}** ({figure_name('front', arm.name)}): Pareto fronts of {np.mean(sizes):.1f} "
+                f"gaits on average; the best of each objective, mean over runs: "
+                + ", ".join(f"{n} {_g(v)}" for n, v in zip(names, np.atleast_1d(best), strict=False))
+            )
+        if repertoire is not None:
+            together = int(np.sum(repertoire.coverage > 0))
+            described = ", ".join(d["name"] for d in repertoire.descriptors)
+            lines.append(
+                f"- **{arm.name}** ({figure_name('archive', arm.name)}): "
+                f"{described}; {np.mean(repertoire.filled):.1f} of "
+                f"{repertoire.cells} cells filled per run, {together} by the runs together; best gait "
+                f"{_g(float(np.nanmin(repertoire.best)))}"
+            )
+    if not lines:
+        return []
+    return ["", "**Fronts and repertoires** (final generation):", "", *lines]
+
+
 def write_study_report(
-    arms: list[ArmRecord], out: Path, *, title: str = "", force: bool = False
+    arms: list[ArmRecord],
+    out: Path,
+    *,
+    title: str = "",
+    force: bool = False,
+    chosen: Sequence[tuple[int, ...]] = (),
+    gaits: int = 0,
 ) -> list[Path]:
+    """The report's files; ``chosen`` cells (or ``gaits`` cells spread over each repertoire) are
+    outlined on the heat maps: the ones :func:`write_gallery` draws."""
     report = build_report(arms)
     names = ("summary.md", "summary.csv", "tables.tex", "summary.json", "convergence.png", "convergence.svg")
     targets = [out / n for n in names]
-    existing = [t for t in targets if t.exists()]
+    try:
+        fronts = {a.name: load_fronts(a.path) for a in arms}
+        repertoires = {a.name: load_repertoire(a.path) for a in arms}
+    except RecordError as error:
+        raise ReportError(str(error)) from None
+    figures = [out / figure_name("front", name) for name, found in fronts.items() if found]
+    figures += [
+        out / figure_name("archive", name) for name, found in repertoires.items() if found is not None
+    ]
+    existing = [t for t in [*targets, *figures] if t.exists()]
     if existing and not force:
         raise ReportError(
             f"{existing[0]} exists; pass --force to overwrite the report, or choose another --out"
         )
-    write_atomically(targets[0], markdown(report, title))
+    write_atomically(targets[0], markdown(report, title, strategy_lines(list(arms))))
     write_atomically(targets[1], csv_text(report))
     write_atomically(targets[2], latex(report))
     write_atomically(targets[3], jsonio.dumps(report.as_json(), indent=1) + "\n")
     figure = convergence_figure(list(arms))
     figure.savefig(targets[4], dpi=120)
     figure.savefig(targets[5])
-    return targets
+    for name, found in fronts.items():
+        if found:
+            front_figure(name, found).savefig(out / figure_name("front", name), dpi=120)
+    for name, repertoire in repertoires.items():
+        if repertoire is not None:
+            cells = list(chosen) or spread_cells(repertoire, gaits)
+            archive_figure(name, repertoire, cells).savefig(out / figure_name("archive", name), dpi=120)
+    return targets + figures
+
+
+def write_gallery(
+    arms: list[ArmRecord], out: Path, *, gaits: int, chosen: Sequence[tuple[int, ...]] = ()
+) -> list[Path]:
+    """GIFs of ``gaits`` trade-off gaits spread along each front (run 0's) and of the best gaits
+    of the ``chosen`` cells (or ``gaits`` cells spread along the first descriptor) of each
+    repertoire, drawn through each arm's own pipeline (mujoco-horse arms only)."""
+    from gaitgram.strategies.gallery import render_gaits
+
+    written: list[Path] = []
+    for arm in arms:
+        fronts = load_fronts(arm.path)
+        if fronts and gaits:
+            members = trade_offs(fronts[0], gaits)
+            paths = [out / figure_name("front", f"{arm.name}-{k}", ".gif") for k in range(len(members))]
+            render_gaits(arm.path, [m["genome"] for m in members], paths)
+            written += paths
+        repertoire = load_repertoire(arm.path)
+        if repertoire is not None and (gaits or chosen):
+            cells = list(chosen) or spread_cells(repertoire, gaits)
+            missing = [c for c in cells if c not in repertoire.elites]
+            if missing:
+                raise ReportError(
+                    f"arm {arm.name}: cell {','.join(map(str, missing[0]))} is empty in every run; filled: "
+                    + " ".join(",".join(map(str, c)) for c in sorted(repertoire.elites))
+                )
+            paths = [out / figure_name("cell", f"{arm.name}-{'-'.join(map(str, c))}", ".gif") for c in cells]
+            render_gaits(arm.path, [repertoire.elites[c]["genome"] for c in cells], paths)
+            written += paths
+    return written

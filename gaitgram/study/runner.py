@@ -35,10 +35,12 @@ from gaitgram.backends.api import Evaluator
 from gaitgram.evolution.engine import load_checkpoint, run_evolution
 from gaitgram.evolution.rundir import RunDirectory, fingerprint
 from gaitgram.evolution.session import summary
+from gaitgram.extras import MissingExtra
 from gaitgram.fileio import write_atomically
 from gaitgram.language import parse
 from gaitgram.language.source import SourceError, read_source
 from gaitgram.pipeline import Pipeline, PipelineError
+from gaitgram.strategies.registry import load_strategy
 from gaitgram.study.spec import Study, StudyError
 
 STUDY_MANIFEST = "study.json"
@@ -91,7 +93,9 @@ class StudyDirectory:
         path = directory.run_dir(task.run) / "checkpoint.json"
         if not path.exists():
             return False
-        state = load_checkpoint(path, directory.pipeline, fingerprint=directory.fingerprint, run=task.run)
+        state = load_checkpoint(
+            path, directory.pipeline, fingerprint=directory.fingerprint, run=task.run, with_memory=False
+        )
         return state.generation == directory.config.generations
 
 
@@ -114,8 +118,12 @@ def prepare_study(study: Study, out: Path) -> StudyDirectory:
         not out.is_dir() or any(p.name not in (LOCK_FILE, STOP_FILE) for p in out.iterdir())
     ):
         raise StudyError(f"{out} exists and is not a study directory; choose another -o")
-    for pipeline in pipelines.values():  # every backend loads, before anything is written
+    for name, pipeline in pipelines.items():  # every backend and strategy loads, before anything is written
         pipeline.load_evaluator().close()
+        try:
+            load_strategy(pipeline)
+        except MissingExtra as error:
+            raise StudyError(f"arm {name!r}: {error}") from None
     arms: dict[str, RunDirectory] = {}
     for arm in study.arms:
         pipeline = pipelines[arm.name]
@@ -383,7 +391,9 @@ def _write_arm_summaries(directory: StudyDirectory) -> None:
             path = arm.run_dir(run) / "checkpoint.json"
             if not path.exists():
                 break
-            state = load_checkpoint(path, arm.pipeline, fingerprint=arm.fingerprint, run=run)
+            state = load_checkpoint(
+                path, arm.pipeline, fingerprint=arm.fingerprint, run=run, with_memory=False
+            )
             if state.generation != arm.config.generations:
                 break
             states.append(state)

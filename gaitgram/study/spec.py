@@ -12,11 +12,12 @@ A study file is TOML::
     [[arm]]
     name = "hybrid"
     grammar = "../grammars/hybrid.gg"   # paths are relative to the study file
-    strategy = "ge"                     # the search strategy (default ge)
+    strategy = "ge"                     # the search strategy (default ge; docs/strategies.md)
     config = "weights.toml"             # optional: this arm's own run.toml
     defines = { n = 5 }                 # optional: GE_RANGE values
     [arm.settings]                      # optional: keys for this arm only
     elite = 5
+    [arm.settings.strategy_settings]    # optional: the strategy's own settings
 
 A run configuration is resolved per arm in this order, each over the last:
 defaults, the study's ``config`` file, the study's ``[settings]``, the arm's
@@ -35,10 +36,10 @@ from pathlib import Path
 from typing import Any
 
 from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, read_toml
+from gaitgram.strategies.registry import strategy_names
 
 STUDY_KEYS = ("title", "runs", "seed", "config", "settings", "arm")
 ARM_KEYS = ("name", "grammar", "strategy", "config", "settings", "defines")
-STRATEGIES = ("ge",)
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
 MAX_RUNS = 10_000
 
@@ -131,9 +132,14 @@ def _arm(
     grammar = data.get("grammar")
     if not isinstance(grammar, str) or not grammar:
         raise StudyError(f"{label}: grammar: give the grammar file, relative to the study file")
-    strategy = data.get("strategy", "ge")
-    if strategy not in STRATEGIES:
-        raise StudyError(f"{label}: strategy: {strategy!r} is not one of {', '.join(STRATEGIES)}")
+    strategy = data.get("strategy")
+    if strategy is not None and strategy not in strategy_names():
+        close = difflib.get_close_matches(str(strategy), strategy_names(), n=1)
+        hint = f"did you mean {close[0]}? " if close else ""
+        raise StudyError(
+            f"{label}: strategy: {strategy!r} is not an installed strategy; {hint}"
+            f"installed: {', '.join(strategy_names())}"
+        )
     defines = data.get("defines", {})
     if not isinstance(defines, Mapping) or not all(
         isinstance(v, int) and not isinstance(v, bool) for v in defines.values()
@@ -142,6 +148,8 @@ def _arm(
     values: dict[str, Any] = {"seed": seed, **shared}
     values.update(_config_file(data.get("config"), base, label))
     values.update(_table(data, "settings", label))
+    if strategy is not None:
+        values["strategy"] = strategy
     values["runs"] = runs
     if scale.generations is not None:
         _scale_generations(values, scale.generations)
@@ -151,7 +159,7 @@ def _arm(
         config = config_from_mapping(values, label)
     except ConfigError as error:
         raise StudyError(str(error)) from None
-    return Arm(name, (base / grammar), strategy, config, dict(defines))
+    return Arm(name, (base / grammar), config.strategy, config, dict(defines))
 
 
 def _scale_generations(values: dict[str, Any], generations: int) -> None:

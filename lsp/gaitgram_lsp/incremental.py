@@ -113,7 +113,8 @@ def _unique_spans(segment: Segment) -> list[Span]:
     for joint in segment.joints:
         add(joint.span)
     for problem in segment.problems:
-        add(problem.span)
+        for span in problem.spans():  # its fixes' edits too
+            add(span)
     return list(seen.values())
 
 

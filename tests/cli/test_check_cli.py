@@ -57,7 +57,10 @@ def test_json_output(broken: Path) -> None:
         "end_line": 1,
         "end_column": 21,
         "hint": undefined["hint"],
+        "data": {"name": "nope"},
+        "fixes": undefined["fixes"],  # see test_check_fix.py
     }
+    assert [f["title"] for f in undefined["fixes"]] == ["Define <nope>"]
     assert {r["severity"] for r in records} == {"error", "warning"}
 
 
@@ -120,7 +123,17 @@ def test_fmt_leaves_files_with_syntax_errors_alone(tmp_path: Path) -> None:
 
 @settings(max_examples=150)
 @given(data=st.one_of(st.binary(max_size=200), st.text(max_size=200).map(str.encode)))
-@pytest.mark.parametrize("args", [["check"], ["check", "-f", "json"], ["fmt", "--check"]])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["check"],
+        ["check", "-f", "json"],
+        ["check", "-f", "sarif"],
+        ["check", "--fix", "--unsafe-fixes"],
+        ["check", "--diff"],
+        ["fmt", "--check"],
+    ],
+)
 def test_garbage_files_never_give_a_traceback(
     tmp_path_factory: pytest.TempPathFactory, args: list[str], data: bytes
 ) -> None:

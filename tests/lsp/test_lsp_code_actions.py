@@ -125,3 +125,18 @@ async def test_only_the_kinds_asked_for(client: Client) -> None:
     assert "Define <b>" in fixes
     _, refactors = await actions(client, text, at(0, 9), only=[types.CodeActionKind.Refactor])
     assert list(refactors) == ["Collapse 3 values into int[0..2]"]
+
+
+async def test_quick_fixes_are_the_fixes_the_diagnostics_carry(client: Client) -> None:
+    text = "<a> ::= flaot[0..1 step 0.5] | x | | y | | z\n"
+    uri, found = await actions(client, text, at(0, 10))
+    look_alike = found["Make it the range float[0..1 step 0.5]"]
+    assert look_alike.is_preferred
+    assert [d.code for d in look_alike.diagnostics or []] == ["GG309"]
+    assert applied(text, uri, look_alike) == "<a> ::= float[0..1 step 0.5] | x | | y | | z\n"
+    expected = {d.code.code: [f.title for f in d.fixes] for d in check(parse(text)).diagnostics}
+    assert expected["GG309"] == ["Make it the range float[0..1 step 0.5]"]
+    uri, found = await actions(client, text, at(0, 35))
+    assert (
+        applied(text, uri, found["Fix all 2 GG106 problems"]) == "<a> ::= flaot[0..1 step 0.5] | x | y | z\n"
+    )

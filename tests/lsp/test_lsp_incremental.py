@@ -36,8 +36,11 @@ PIECES = [
     "\\",
     "int[",
     "float[",
+    "flaot[",  # GG309, whose fix spans move with their segment
     "0..3",
+    " step 0.5",
     "]",
+    " | | ",
     "@",
     "@start <b>\n",
     "\n@joint hip_hind\n",

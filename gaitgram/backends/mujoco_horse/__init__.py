@@ -34,6 +34,12 @@ def check_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
     return {k: v for k, v in asdict(HorseSettings.from_mapping(settings)).items() if v is not None}
 
 
+def scored_components(settings: Mapping[str, Any]) -> tuple[str, ...]:
+    """The components the fitness weighs (the frequency is measured, but not scored by default)."""
+    weights = settings.get("weights") or DEFAULT_WEIGHTS
+    return tuple(name for name in DEFAULT_WEIGHTS if weights.get(name, 0.0) > 0)
+
+
 def _version() -> str:
     """The fitness formula's revision, the simulator's release and a digest of the model files."""
     digest = hashlib.sha256()
@@ -59,4 +65,7 @@ BACKEND = BackendSpec(
         weights or settings.get("weights") or DEFAULT_WEIGHTS
     ),
     cycle_frequencies=CYCLE_FREQUENCIES,
+    objectives=scored_components,
+    # From a slow walk to a fast trot: speed (m/s) and the share of the cycle a hoof is down.
+    descriptors={"measured_velocity": (0.0, 3.0), "measured_duty_factor": (0.3, 0.9)},
 )

@@ -1,0 +1,212 @@
+"""Applying the fixes diagnostics carry: ``gaitgram check --fix``, and fixes combined for editors.
+
+A :class:`~gaitgram.diagnostics.Diagnostic` carries its fixes as data (made by the
+builder and the linter, where the names and spans are known); this module only chooses
+and applies them. :func:`fix_source` is what ``check --fix`` does to one file:
+
+* it applies the safe fixes (with ``unsafe``, also the preferred fix of a diagnostic
+  that has no safe one), all that do not overlap at once, then checks the text again
+  and repeats, since one fix can make another possible;
+* it keeps an edit only if the grammar has no error it did not have before (errors are
+  compared by code, rule and the text they are about, so moving text does not count): a
+  batch that would add one is halved until a part does not, and a single fix that adds one
+  is never applied. So fixing never makes a file worse, and a file without diagnostics is
+  never changed, whatever the fixes are.
+"""
+
+from __future__ import annotations
+
+from bisect import bisect_left
+from collections import Counter
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+
+from gaitgram.analysis import CheckResult, check
+from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, TextEdit
+from gaitgram.language import parse
+from gaitgram.language.edits import EditConflict, apply_edits, conflicts, normalized, union
+from gaitgram.language.source import Location, SourceText
+
+#: ``check --fix`` gives up after this many rounds of fixing and checking again.
+MAX_PASSES = 20
+
+ErrorKey = tuple[str, str | None, str]
+
+
+@dataclass(frozen=True, slots=True)
+class AppliedFix:
+    """A fix that was applied: for which code, what it did, and where (in the text it was
+    applied to, which is the file as read unless an earlier round changed it)."""
+
+    code: Code
+    title: str
+    location: Location
+
+
+@dataclass(frozen=True, eq=False)
+class FixOutcome:
+    """What fixing one text did."""
+
+    original: SourceText
+    text: str
+    applied: tuple[AppliedFix, ...]
+    #: The check of the fixed text: the problems that remain.
+    result: CheckResult
+    #: Remaining diagnostics whose fix ``--unsafe-fixes`` would try.
+    unsafe_available: int
+    #: Fixes not applied because they would have added an error.
+    refused: int
+
+    @property
+    def changed(self) -> bool:
+        return self.text != self.original.text
+
+
+def chosen_fix(found: Diagnostic, *, unsafe: bool = False) -> Fix | None:
+    """The fix ``check --fix`` applies to a diagnostic: its safe one; with ``unsafe``, else its
+    preferred one (a guess between names, a deletion), never an arbitrary one."""
+    for fix in found.fixes:
+        if fix.safe:
+            return fix
+    if unsafe:
+        return next((fix for fix in found.fixes if fix.preferred), None)
+    return None
+
+
+def error_keys(result: CheckResult) -> Counter[ErrorKey]:
+    """The errors of a check as (code, rule, text they are about), which moving text around
+    leaves alone; a fix may only make this multiset smaller."""
+    text = result.grammar.source.text
+    return Counter(
+        (d.code.code, d.rule, text[d.span.start : d.span.end]) for d in result.diagnostics if d.is_error
+    )
+
+
+def no_worse(before: CheckResult, after: CheckResult) -> bool:
+    """Every error of ``after`` was an error of ``before`` (counted with multiplicity)."""
+    old = error_keys(before)
+    return all(count <= old[key] for key, count in error_keys(after).items())
+
+
+def fix_source(
+    source: SourceText, *, defines: Mapping[str, int] | None = None, unsafe: bool = False
+) -> FixOutcome:
+    """Apply the chosen fixes of ``source``'s diagnostics until none is left (see the module doc)."""
+    result = check(parse(source, defines=defines))
+    applied: list[AppliedFix] = []
+    refused: set[tuple[str, str, str]] = set()
+
+    def attempt(batch: Sequence[tuple[Diagnostic, Fix]]) -> CheckResult | None:
+        text = result.grammar.source.text
+        try:
+            new_text = apply_edits(text, (e for _, fix in batch for e in fix.edits))
+        except EditConflict:  # pragma: no cover - batches are chosen without conflicts
+            return None
+        if new_text == text:
+            return None
+        new = check(parse(SourceText(new_text, source.name), defines=defines))
+        return new if no_worse(result, new) else None
+
+    def settle(
+        batch: Sequence[tuple[Diagnostic, Fix]],
+    ) -> tuple[Sequence[tuple[Diagnostic, Fix]], CheckResult] | None:
+        """The batch if it adds no error, else the first half of it (halving) that does not;
+        a single fix that adds one is refused for good. A few checks even for many fixes."""
+        new = attempt(batch)
+        if new is not None:
+            return batch, new
+        if len(batch) == 1:
+            refused.add(_key(result, *batch[0]))
+            return None
+        half = len(batch) // 2
+        return settle(batch[:half]) or settle(batch[half:])
+
+    for _ in range(MAX_PASSES):
+        candidates = [
+            (found, fix)
+            for found in result.diagnostics
+            if (fix := chosen_fix(found, unsafe=unsafe)) is not None
+            and _key(result, found, fix) not in refused
+        ]
+        if not candidates:
+            break
+        settled = settle(_compatible(candidates))
+        if settled is None:
+            break
+        batch, new = settled
+        source_now = result.grammar.source
+        applied += [AppliedFix(d.code, f.title, source_now.location(d.span.start)) for d, f in batch]
+        result = new
+
+    remaining = sum(
+        1 for d in result.diagnostics if chosen_fix(d) is None and chosen_fix(d, unsafe=True) is not None
+    )
+    return FixOutcome(
+        original=source,
+        text=result.grammar.source.text,
+        applied=tuple(applied),
+        result=result,
+        unsafe_available=0 if unsafe else remaining,
+        refused=len(refused),
+    )
+
+
+def _key(result: CheckResult, found: Diagnostic, fix: Fix) -> tuple[str, str, str]:
+    return (found.code.code, fix.title, result.grammar.source.slice(found.span))
+
+
+def _compatible(candidates: Iterable[tuple[Diagnostic, Fix]]) -> list[tuple[Diagnostic, Fix]]:
+    """The candidates in order, each whole, leaving out any whose edits conflict with one taken."""
+    taken: list[tuple[Diagnostic, Fix]] = []
+    keys: list[tuple[int, int]] = []  # the taken edits' spans, sorted; they never overlap
+    edits: list[TextEdit] = []
+    for found, fix in candidates:
+        if any(_clashes(edit, keys, edits) for edit in fix.edits):
+            continue
+        taken.append((found, fix))
+        for edit in fix.edits:
+            at = bisect_left(keys, (edit.span.start, edit.span.end))
+            keys.insert(at, (edit.span.start, edit.span.end))
+            edits.insert(at, edit)
+    return taken
+
+
+def _clashes(edit: TextEdit, keys: list[tuple[int, int]], edits: list[TextEdit]) -> bool:
+    """Whether ``edit`` conflicts with one of ``edits`` (sorted, without overlaps): only its
+    neighbours in that order can."""
+    at = bisect_left(keys, (edit.span.start, edit.span.end))
+    return any(conflicts(edit, edits[i]) for i in range(max(at - 1, 0), min(at + 2, len(edits))))
+
+
+def combine(title: str, fixes: Iterable[Fix]) -> Fix | None:
+    """One fix doing all of ``fixes`` (``Remove all 3 unreachable rules``): deletions that
+    overlap are merged, repeated edits kept once; None if two other edits overlap."""
+    fixes = list(fixes)
+    if not fixes:
+        return None
+    deletions = union(e.span for fix in fixes for e in fix.edits if not e.text)
+    others = {e for fix in fixes for e in fix.edits if e.text}
+    try:
+        edits = normalized([TextEdit(span, "") for span in deletions] + list(others))
+    except EditConflict:
+        return None
+    safe = all(fix.safe for fix in fixes)
+    return Fix(title, tuple(edits), Applicability.SAFE if safe else Applicability.UNSAFE)
+
+
+#: Titles of :func:`fix_all` where the generic one would read badly.
+_FIX_ALL_TITLES = {"GG204": "Remove all {n} unreachable rules"}
+
+
+def fix_all(diagnostics: Iterable[Diagnostic], code: str) -> Fix | None:
+    """One fix applying the chosen fix (safe, else preferred) of every diagnostic with ``code``:
+    the editor's "fix all of these". None if fewer than two have one, or two of them overlap."""
+    fixes = [
+        fix
+        for found in diagnostics
+        if found.code.code == code and (fix := chosen_fix(found, unsafe=True)) is not None
+    ]
+    if len(fixes) < 2:
+        return None
+    title = _FIX_ALL_TITLES.get(code, "Fix all {n} {code} problems").format(n=len(fixes), code=code)
+    return combine(title, fixes)

@@ -1,0 +1,88 @@
+"""Text edits: applying a set of them at once, and the spans that fixes delete.
+
+Fixes are made by the builder and the linter (as :class:`~gaitgram.diagnostics.Fix`
+data) and applied by ``gaitgram check --fix``, the language server and tests alike, so
+what "applying" means is defined once, here: every edit's span is an offset range of
+the text the edits were made for, edits never overlap, and they are applied together.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from gaitgram.diagnostics import TextEdit
+from gaitgram.language.source import Span
+
+
+class EditConflict(ValueError):
+    """Two edits touch the same text, so applying both has no single meaning."""
+
+
+def conflicts(a: TextEdit, b: TextEdit) -> bool:
+    """Whether two different edits cannot both be applied.
+
+    They conflict if their spans overlap, or if both insert at the same offset (the order
+    of the insertions would be a guess). An insertion at the start or end of a replaced
+    span does not conflict with it. Identical edits never conflict: they are one edit.
+    """
+    if a == b:
+        return False
+    if a.span.start == a.span.end == b.span.start == b.span.end:
+        return True
+    return a.span.start < b.span.end and b.span.start < a.span.end
+
+
+def normalized(edits: Iterable[TextEdit]) -> list[TextEdit]:
+    """The edits sorted, duplicates dropped; :class:`EditConflict` if two conflict."""
+    unique = sorted(set(edits), key=lambda e: (e.span.start, e.span.end, e.text))
+    reach: TextEdit | None = None  # the edit reaching furthest so far
+    for edit in unique:
+        if reach is not None and conflicts(reach, edit):
+            raise EditConflict(f"edits at {reach.span} and {edit.span} overlap")
+        if reach is None or edit.span.end >= reach.span.end:
+            reach = edit
+    return unique
+
+
+def apply_edits(text: str, edits: Iterable[TextEdit]) -> str:
+    """``text`` with every edit applied; spans refer to ``text`` as given (not as edited)."""
+    parts: list[str] = []
+    position = 0
+    for edit in normalized(edits):
+        start, end = edit.span.start, edit.span.end
+        if not 0 <= start <= end <= len(text):
+            raise EditConflict(f"edit at {edit.span} is outside the text ({len(text)} characters)")
+        parts.append(text[position:start])
+        parts.append(edit.text)
+        position = end
+    parts.append(text[position:])
+    return "".join(parts)
+
+
+def line_end(text: str, offset: int) -> int:
+    """The offset of the newline ending the line of ``offset`` (or the end of the text)."""
+    end = text.find("\n", offset)
+    return len(text) if end == -1 else end
+
+
+def removal(text: str, start: int, end: int) -> Span:
+    """The span to delete to remove ``text[start:end]`` cleanly: its whole lines if nothing else
+    is on them (a comment after it goes too), else it and the spaces after it."""
+    line_start = text.rfind("\n", 0, start) + 1
+    own_line = not text[line_start:start].strip()
+    stop = line_end(text, end)
+    rest = text[end:stop]
+    if own_line and (not rest.strip() or rest.lstrip().startswith("#")):
+        return Span(line_start, min(stop + 1, len(text)))
+    return Span(line_start if own_line else start, end + len(rest) - len(rest.lstrip()))
+
+
+def union(spans: Iterable[Span]) -> list[Span]:
+    """Overlapping or touching spans merged: what deleting all of them deletes."""
+    merged: list[Span] = []
+    for span in sorted(spans, key=lambda s: (s.start, s.end)):
+        if merged and span.start <= merged[-1].end:
+            merged[-1] = Span(merged[-1].start, max(merged[-1].end, span.end))
+        else:
+            merged.append(span)
+    return merged

@@ -1,0 +1,101 @@
+"""The strategy plug-in API: ask for genomes, tell what the pipeline made of them.
+
+A run is a loop that the engine owns (:func:`gaitgram.evolution.engine.run_evolution`)::
+
+    memory = strategy.start(context, rng)
+    for each generation g = 0, 1, ...:
+        genomes    = strategy.ask(context, state)          # g = state.generation + 1
+        evaluated  = pipeline.evaluate(genomes, evaluator, g)
+        population = strategy.tell(context, state, evaluated)
+        checkpoint (population, rng, history, memory)
+
+so every strategy is scored by the same pipeline as every command, and none can
+skip the checkpoint. A strategy object is stateless; what it must remember
+between generations is the run's :class:`~gaitgram.evolution.engine.RunState`:
+the population it returned, the run's generator ``rng`` (checkpointed as
+JSON) and ``memory``, anything picklable the strategy keeps of its own (a
+library's optimiser, an archive), pickled beside the checkpoint after every
+generation. Libraries draw from generators of their own
+(:meth:`RunContext.generator`), never from ``rng`` and never from NumPy's
+global state, so that a resumed run continues exactly where it stopped.
+
+The contract, checked when a checkpoint is read back: the population a
+strategy returns has ``config.population`` individuals. For the budget to be
+comparable across strategies (``gaitgram report`` refuses arms at different
+budgets), generation 0 evaluates ``population`` genomes and every later
+generation ``population - elite`` new ones (elites re-scored after a weight or
+joint-freedom change come on top, as in GE).
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from gaitgram.evolution.engine import RunState
+    from gaitgram.pipeline import Individual, Pipeline
+
+Genome = tuple[int, ...]
+
+
+class StrategyError(ValueError):
+    """A strategy that cannot run this grammar or configuration; says why and what would work."""
+
+
+@dataclass(frozen=True)
+class RunContext:
+    """What a strategy knows of the run it searches for."""
+
+    pipeline: Pipeline
+    run: int
+    #: The run's seed; a library's generators come from :meth:`generator` and :meth:`integer_seed`.
+    seed: np.random.SeedSequence
+
+    @property
+    def settings(self) -> dict[str, Any]:
+        """The strategy's settings, as its spec's ``check`` normalised them."""
+        return dict(self.pipeline.config.strategy_settings)
+
+    def _child(self, stream: int) -> np.random.SeedSequence:
+        # Built, not spawned: spawning counts children, so a second call would give another stream.
+        return np.random.SeedSequence(self.seed.entropy, spawn_key=(*self.seed.spawn_key, 1 + stream))
+
+    def generator(self, stream: int = 0) -> np.random.Generator:
+        """A generator of the strategy's own, independent of the run's ``rng``: the same for the
+        same run and ``stream``."""
+        return np.random.default_rng(self._child(stream))
+
+    def integer_seed(self, stream: int = 0) -> int:
+        """An integer seed, for libraries that take one (the same for the same run and stream)."""
+        return int(self._child(stream).generate_state(1, dtype=np.uint32)[0])
+
+
+class Strategy(ABC):
+    """A search method; one object serves every run (the state is in :class:`RunState`)."""
+
+    def start(self, context: RunContext, rng: np.random.Generator) -> Any:
+        """Before generation 0: the strategy's memory (None if it keeps none beyond the population)."""
+        return None
+
+    def restore(self, context: RunContext, memory: Any) -> Any:
+        """A memory read back from a checkpoint: check it is this strategy's and reattach anything
+        that was not pickled; raise :class:`StrategyError` if it cannot be used."""
+        return memory
+
+    @abstractmethod
+    def ask(self, context: RunContext, state: RunState) -> list[Genome]:
+        """The genomes to evaluate in generation ``state.generation + 1`` (generation 0 when
+        ``state.generation`` is -1 and the population empty)."""
+
+    @abstractmethod
+    def tell(self, context: RunContext, state: RunState, evaluated: list[Individual]) -> list[Individual]:
+        """Learn from ``evaluated`` (the asked genomes, in order) and return the next population."""
+
+    def records(self, context: RunContext, state: RunState) -> dict[str, Any]:
+        """JSON files for the run directory beside ``best.json`` (name -> content), rewritten after
+        every generation; derived from the state, so they always agree with the checkpoint."""
+        return {}

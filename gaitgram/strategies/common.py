@@ -1,0 +1,144 @@
+"""What several strategies share: the budget, carried elites, GE's variation, settings checks."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from gaitgram.backends.api import SettingsError
+from gaitgram.ge.operators import Genome, int_flip_mutation, one_point_crossover
+from gaitgram.strategies.api import StrategyError
+
+if TYPE_CHECKING:
+    from gaitgram.evolution.config import RunConfig
+    from gaitgram.evolution.engine import RunState
+    from gaitgram.ge.mapper import Mapper
+    from gaitgram.pipeline import Individual, Pipeline
+
+
+def batch_size(config: RunConfig, generation: int) -> int:
+    """New gaits a strategy evaluates in ``generation``: GE's budget, the same for every strategy
+    (the population, then the offspring: ``population - elite``)."""
+    return config.population if generation == 0 else config.population - config.elite
+
+
+def with_elites(state: RunState, pipeline: Pipeline, new: list[Genome]) -> list[Genome]:
+    """``new``, after the elites' genomes when their scores are stale (a weight or joint-freedom
+    change, as GE re-scores them)."""
+    from gaitgram.evolution.engine import elites_of, scores_change
+
+    if state.generation >= 0 and scores_change(pipeline, state.generation + 1):
+        return [i.genome for i in elites_of(state.population, pipeline.config.elite)] + new
+    return new
+
+
+def elitist(
+    state: RunState, pipeline: Pipeline, evaluated: list[Individual]
+) -> tuple[list[Individual], list[Individual]]:
+    """(the next population: the best ``elite`` so far, then the new gaits; the new gaits alone),
+    for what :func:`with_elites` asked."""
+    from gaitgram.evolution.engine import elites_of, scores_change
+
+    if state.generation < 0:
+        return evaluated, evaluated
+    elites = elites_of(state.population, pipeline.config.elite)
+    if scores_change(pipeline, state.generation + 1):
+        return evaluated, evaluated[len(elites) :]
+    return elites + evaluated, evaluated
+
+
+def require_fixed_scores(pipeline: Pipeline, strategy: str, keeps: str) -> None:
+    """Refuse a run whose scores change during it (a weight schedule or a joint coming free):
+    ``keeps`` would hold stale scores."""
+    from gaitgram.evolution.engine import scores_change
+
+    config = pipeline.config
+    for generation in range(1, config.generations + 1):
+        if scores_change(pipeline, generation):
+            raise StrategyError(
+                f"strategy {strategy}: the scores change at generation {generation} (a weight schedule "
+                f"stage or an @joint free= annotation), and {keeps} would keep the old ones; give it "
+                "fixed weights and joints free from the start, or use ge, random or cma-es"
+            )
+
+
+def component(individual: Individual, name: str) -> float:
+    """A viable individual's fitness component ``name`` (its measurements included)."""
+    value = individual.evaluation.components.get(name)
+    if value is None:
+        known = ", ".join(sorted(individual.evaluation.components)) or "none"
+        raise StrategyError(
+            f"the backend reports no component {name!r} for a viable gait; it reports: {known}"
+        )
+    return float(value)
+
+
+class GEVariation:
+    """GE's crossover and mutation with a run's settings (Table 1), for strategies that vary
+    genomes. The mapper, needed to know the codons a genome uses, is attached for each generation
+    and never pickled."""
+
+    def __init__(self, config: RunConfig) -> None:
+        self.crossover = config.crossover
+        self.fixed_point = config.fixed_point
+        self.crossover_within_used = config.crossover_within_used
+        self.mutation = config.mutation
+        self.mutation_within_used = config.mutation_within_used
+        self.codon_size = config.codon_size
+        self.mapper: Mapper | None = None
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {**self.__dict__, "mapper": None}
+
+    def _used(self, genomes: Sequence[Genome]) -> list[int]:
+        if self.mapper is None:
+            raise RuntimeError("GEVariation.mapper is not attached")
+        return [m.used_codons for m in self.mapper.map_many(genomes)]
+
+    def cross(self, first: Genome, second: Genome, rng: np.random.Generator) -> tuple[Genome, Genome]:
+        """One-point crossover of two parents (whether to cross at all is the caller's draw)."""
+        used = tuple(self._used([first, second])) if self.crossover_within_used else None
+        return one_point_crossover(first, second, rng, fixed_point=self.fixed_point, used=used)  # type: ignore[arg-type]
+
+    def mutate(self, genomes: Sequence[Genome], rng: np.random.Generator) -> list[Genome]:
+        """Int-flip mutation of each genome (within the codons it uses, if the run says so)."""
+        used: Sequence[int | None] = (
+            self._used(genomes) if self.mutation_within_used else [None] * len(genomes)
+        )
+        return [
+            int_flip_mutation(g, rng, probability=self.mutation, codon_size=self.codon_size, used=u)
+            for g, u in zip(genomes, used, strict=True)
+        ]
+
+
+# ---- settings -----------------------------------------------------------------------------------
+
+
+def known_keys(settings: Mapping[str, Any], keys: Sequence[str], strategy: str) -> None:
+    for key in settings:
+        if key not in keys:
+            known = f"its settings: {', '.join(keys)}" if keys else "it takes none"
+            raise SettingsError(str(key), f"unknown setting of strategy {strategy}; {known}")
+
+
+def number(settings: Mapping[str, Any], key: str, default: float, low: float, high: float) -> float:
+    """A float setting in ``(low, high]``."""
+    value = settings.get(key, default)
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise SettingsError(key, f"must be a number, not {value!r}")
+    if not low < value <= high:
+        raise SettingsError(key, f"must be in ({low:g}, {high:g}], not {value!r}")
+    return float(value)
+
+
+def names(settings: Mapping[str, Any], key: str, default: Sequence[str]) -> list[str]:
+    """A list of distinct component names."""
+    value = settings.get(key, list(default))
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) and v for v in value):
+        raise SettingsError(key, f"must be a list of component names, not {value!r}")
+    if len(set(value)) != len(value):
+        raise SettingsError(key, f"names a component twice: {value!r}")
+    return list(value)

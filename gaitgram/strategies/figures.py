@@ -1,0 +1,230 @@
+"""What the multi-objective and quality-diversity strategies leave for a report: fronts and repertoires.
+
+Read from the records a run directory keeps beside ``best.json`` (``front.json``
+of ``nsga2``, ``archive.json`` of ``map-elites``, or any plug-in that writes the
+same), so a report needs neither the strategy's library nor its pickled state.
+Figures need matplotlib (the ``plot`` extra), imported only when drawn.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+FRONT = "front.json"
+ARCHIVE = "archive.json"
+
+
+class RecordError(ValueError):
+    """A front or archive record that cannot be read; says which file."""
+
+
+def _read(path: Path) -> dict[str, Any]:
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as error:
+        raise RecordError(f"{path}: cannot read it: {error}") from None
+    if not isinstance(data, dict):
+        raise RecordError(f"{path}: not a record")
+    return data
+
+
+def run_dirs(arm: Path) -> list[Path]:
+    return sorted(p for p in arm.glob("run-[0-9][0-9][0-9]") if p.is_dir())
+
+
+# ---- Pareto fronts --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Front:
+    """One run's final Pareto front: ``points[i, k]`` is member ``i``'s objective ``k``."""
+
+    run: int
+    objectives: tuple[str, ...]
+    points: np.ndarray
+    members: tuple[dict[str, Any], ...]
+
+
+def load_fronts(arm: Path) -> list[Front]:
+    """The fronts of an arm's runs (those that keep one)."""
+    fronts = []
+    for run, directory in enumerate(run_dirs(arm)):
+        if not (directory / FRONT).is_file():
+            continue
+        data = _read(directory / FRONT)
+        try:
+            objectives = tuple(str(o) for o in data["objectives"])
+            members = tuple(data["front"])
+            points = np.array([m["objectives"] for m in members], dtype=float).reshape(-1, len(objectives))
+        except (KeyError, TypeError, ValueError) as error:
+            raise RecordError(f"{directory / FRONT}: malformed ({error})") from None
+        fronts.append(Front(run, objectives, points, members))
+    return fronts
+
+
+def non_dominated(points: np.ndarray) -> np.ndarray:
+    """A mask of the rows no other row dominates (minimisation)."""
+    keep = np.ones(len(points), dtype=bool)
+    for i, point in enumerate(points):
+        no_worse = np.all(points <= point, axis=1)
+        better = np.any(points < point, axis=1)
+        keep[i] = not np.any(no_worse & better)
+    return keep
+
+
+def trade_offs(front: Front, count: int) -> list[dict[str, Any]]:
+    """``count`` members spread along the front, from the best in the first objective to the best
+    in the last (both extremes included when ``count`` >= 2)."""
+    if not front.members or count <= 0:
+        return []
+    order = np.argsort(front.points[:, 0], kind="stable")
+    picks = np.unique(np.linspace(0, len(order) - 1, min(count, len(order))).round().astype(int))
+    return [front.members[order[i]] for i in picks]
+
+
+def front_figure(name: str, fronts: list[Front]):  # -> matplotlib.figure.Figure
+    """Every pair of objectives as a scatter of each run's front (one colour per run)."""
+    from matplotlib.figure import Figure
+
+    objectives = fronts[0].objectives
+    pairs = [(a, b) for a in range(len(objectives)) for b in range(a + 1, len(objectives))]
+    columns = min(3, len(pairs))
+    rows = math.ceil(len(pairs) / columns)
+    figure = Figure(figsize=(max(6.5, 4.2 * columns), 3.8 * rows + 0.4), layout="constrained")
+    panels = np.atleast_1d(figure.subplots(rows, columns, squeeze=False).ravel())
+    for panel, (a, b) in zip(panels, pairs, strict=False):
+        for front in fronts:
+            panel.scatter(
+                front.points[:, a],
+                front.points[:, b],
+                s=14,
+                color=f"C{front.run % 10}",
+                label=f"run {front.run} ({len(front.points)})",
+            )
+        panel.set_xlabel(objectives[a])
+        panel.set_ylabel(objectives[b])
+        panel.grid(alpha=0.3)
+    for panel in panels[len(pairs) :]:
+        panel.set_visible(False)
+    if len(fronts) <= 10:
+        panels[0].legend(fontsize="x-small", title="front size", title_fontsize="x-small")
+    figure.suptitle(
+        f"{name}: final Pareto fronts of {len(fronts)} run(s)\nobjectives pairwise, lower is better"
+    )
+    return figure
+
+
+# ---- repertoires ----------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Repertoire:
+    """An arm's archives merged: the best gait found in each cell by any run."""
+
+    descriptors: tuple[dict[str, Any], ...]
+    best: np.ndarray  # fitness per cell, NaN where empty; shape = the bins
+    coverage: np.ndarray  # runs that filled each cell
+    elites: dict[tuple[int, ...], dict[str, Any]]  # cell -> its best gait's record (with "run")
+    filled: tuple[int, ...]  # cells each run filled
+    cells: int
+
+
+def load_repertoire(arm: Path) -> Repertoire | None:
+    """The merged archives of an arm's runs, or None if its runs keep none."""
+    descriptors: tuple[dict[str, Any], ...] | None = None
+    best: np.ndarray | None = None
+    coverage: np.ndarray | None = None
+    elites: dict[tuple[int, ...], dict[str, Any]] = {}
+    filled = []
+    for run, directory in enumerate(run_dirs(arm)):
+        if not (directory / ARCHIVE).is_file():
+            continue
+        data = _read(directory / ARCHIVE)
+        try:
+            if descriptors is None:
+                descriptors = tuple(data["descriptors"])
+                shape = tuple(int(d["bins"]) for d in descriptors)
+                best = np.full(shape, np.nan)
+                coverage = np.zeros(shape, dtype=int)
+            assert best is not None
+            assert coverage is not None
+            filled.append(len(data["elites"]))
+            for elite in data["elites"]:
+                cell = tuple(int(i) for i in elite["cell"])
+                coverage[cell] += 1
+                fitness = float(elite["fitness"])
+                if np.isnan(best[cell]) or fitness < best[cell]:
+                    best[cell] = fitness
+                    elites[cell] = {**elite, "run": run}
+        except (KeyError, TypeError, ValueError, IndexError, AssertionError) as error:
+            raise RecordError(f"{directory / ARCHIVE}: malformed ({error})") from None
+    if descriptors is None or best is None or coverage is None:
+        return None
+    return Repertoire(descriptors, best, coverage, elites, tuple(filled), int(best.size))
+
+
+def spread_cells(repertoire: Repertoire, count: int) -> list[tuple[int, ...]]:
+    """``count`` filled cells spread along the first descriptor (slow to fast on the horse)."""
+    cells = sorted(repertoire.elites, key=lambda c: (c, repertoire.best[c]))
+    if not cells or count <= 0:
+        return []
+    picks = np.unique(np.linspace(0, len(cells) - 1, min(count, len(cells))).round().astype(int))
+    return [cells[i] for i in picks]
+
+
+def archive_figure(name: str, repertoire: Repertoire, chosen: list[tuple[int, ...]] = ()):  # -> Figure
+    """The best fitness in each cell (left) and how many runs filled it (right), as heat maps."""
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import MaxNLocator
+
+    d = repertoire.descriptors
+    best = repertoire.best if repertoire.best.ndim == 2 else repertoire.best[:, None]
+    coverage = repertoire.coverage if repertoire.coverage.ndim == 2 else repertoire.coverage[:, None]
+    x = (d[0]["low"], d[0]["high"])
+    y = (d[1]["low"], d[1]["high"]) if len(d) > 1 else (0.0, 1.0)
+    figure = Figure(figsize=(11, 4.5), layout="constrained")
+    panels = figure.subplots(1, 2)
+    runs = len(repertoire.filled)
+    for panel, values, label, cmap, ticks in (
+        (panels[0], best, "best fitness (lower is better)", "viridis_r", None),
+        (
+            panels[1],
+            coverage.astype(float),
+            f"runs that filled the cell (of {runs})",
+            "Greys",
+            MaxNLocator(integer=True),
+        ),
+    ):
+        image = panel.imshow(
+            values.T, origin="lower", extent=(*x, *y), aspect="auto", cmap=cmap, interpolation="nearest"
+        )
+        figure.colorbar(image, ax=panel, label=label, ticks=ticks)
+        panel.set_xlabel(d[0]["name"])
+        panel.set_ylabel(d[1]["name"] if len(d) > 1 else "")
+    width = (x[1] - x[0]) / best.shape[0]
+    height = (y[1] - y[0]) / best.shape[1]
+    for cell in chosen:
+        i, j = cell[0], cell[1] if len(cell) > 1 else 0
+        panels[0].add_patch(
+            _rectangle((x[0] + i * width, y[0] + j * height), width, height, label=f"{i},{j}")
+        )
+        centre = (x[0] + (i + 0.5) * width, y[0] + (j + 0.5) * height)
+        panels[0].annotate(f"{i},{j}", centre, color="red", fontsize=7, ha="center", va="center")
+    mean_filled = float(np.mean(repertoire.filled)) if repertoire.filled else 0.0
+    figure.suptitle(
+        f"{name}: repertoire of {runs} run(s): {int(np.sum(repertoire.coverage > 0))} of "
+        f"{repertoire.cells} cells filled together, {mean_filled:.1f} per run"
+    )
+    return figure
+
+
+def _rectangle(corner: tuple[float, float], width: float, height: float, label: str) -> Any:
+    from matplotlib.patches import Rectangle
+
+    return Rectangle(corner, width, height, fill=False, edgecolor="red", linewidth=1.5, label=label)
