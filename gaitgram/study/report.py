@@ -289,7 +289,12 @@ def _p(value: float) -> str:
 
 
 def _rate(value: float | None) -> str:
-    return "n/a" if value is None else f"{value:.0%}"
+    """A share in whole percent, except that a small share never reads as none."""
+    if value is None:
+        return "n/a"
+    if 0 < value < 0.01:
+        return "< 0.1%" if value < 0.001 else f"{value:.1%}"
+    return f"{value:.0%}"
 
 
 def markdown(report: StudyReport, title: str = "", extra: Sequence[str] = ()) -> str:
@@ -308,7 +313,7 @@ def markdown(report: StudyReport, title: str = "", extra: Sequence[str] = ()) ->
         lines.append(
             f"| {s.name} | {s.runs} | {_g(s.mean_best)} | {_g(s.sd_best)} | {_g(s.mean_average)} | "
             f"{_g(s.sd_average)} | {_g(s.median_best)} [{_g(low)}, {_g(high)}] | "
-            f"{_g(s.mean_average_viable)} | {s.unviable_share:.0%} | {_rate(s.walk_rate)} |"
+            f"{_g(s.mean_average_viable)} | {_rate(s.unviable_share)} | {_rate(s.walk_rate)} |"
         )
     for label, comparison in (("final best", report.best), ("final average", report.average)):
         lines += [
@@ -522,7 +527,11 @@ def write_study_report(
     write_atomically(targets[3], jsonio.dumps(report.as_json(), indent=1) + "\n")
     figure = convergence_figure(list(arms))
     figure.savefig(targets[4], dpi=120)
-    figure.savefig(targets[5])
+    # The same runs give the same SVG, byte for byte: no date, fixed element ids.
+    from matplotlib import rc_context  # present: convergence_figure needed it
+
+    with rc_context({"svg.hashsalt": "gaitgram"}):
+        figure.savefig(targets[5], metadata={"Date": None})
     for name, found in fronts.items():
         if found:
             front_figure(name, found).savefig(out / figure_name("front", name), dpi=120)

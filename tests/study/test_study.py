@@ -119,6 +119,10 @@ def test_the_report_statistics_are_scipys(tmp_path: Path) -> None:
     assert summary["pairs"][0]["best"]["p_holm"] == pytest.approx(pair.p_holm)
     assert (tmp_path / "report" / "convergence.png").read_bytes().startswith(b"\x89PNG")
     assert "\\toprule" in (tmp_path / "report" / "tables.tex").read_text()
+    again = gaitgram("report", str(tmp_path / "s"), "-o", str(tmp_path / "again"))
+    assert again.returncode == 0, again.stderr
+    for name in ("summary.md", "summary.json", "convergence.svg"):  # committed reports do not churn
+        assert (tmp_path / "again" / name).read_bytes() == (tmp_path / "report" / name).read_bytes()
 
 
 def test_a_different_study_in_the_same_directory_is_refused(tmp_path: Path) -> None:
@@ -182,3 +186,9 @@ def test_the_bundled_paper_studies_load_at_the_table_1_budget_and_scale_down() -
     varying = next(a for a in table4.arms if a.name == "varying-weights")
     assert [stage.start for stage in varying.config.weight_schedule] == [0, 2, 4, 6, 8]  # 0, 11, ... of 50
     assert load_study(studies / "table4.toml").arms[1].config.weight_schedule[1].start == 11
+
+
+def test_a_small_share_never_reads_as_none() -> None:
+    from gaitgram.study.report import _rate
+
+    assert [_rate(v) for v in (0.0, 0.0004, 0.004, 0.9, None)] == ["0%", "< 0.1%", "0.4%", "90%", "n/a"]
