@@ -200,7 +200,8 @@ def _diff(path: str, outcome: FixOutcome) -> str:
 
 def _summary(counts: dict[Severity, int], checked: int, unreadable: int) -> str:
     """``1 error, 2 warnings in 3 files; 1 file could not be read``, or ``3 files OK``."""
-    found = [plural(counts[s], s.value) for s in Severity if counts[s]]
+    nouns = {Severity.INFO: "info message"}  # "2 infos" is not English
+    found = [plural(counts[s], nouns.get(s, s.value)) for s in Severity if counts[s]]
     parts = []
     if found:
         parts.append(f"{', '.join(found)} in {plural(checked, 'file')}")

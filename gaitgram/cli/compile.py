@@ -37,9 +37,9 @@ def command(
     json: portable tables (docs/ge.md); python: a module that maps genomes with no gaitgram
     installed; ponyge2: plain BNF with typed ranges expanded, for PonyGE2 and GEVA.
     """
+    result = load_usable(grammar, parse_defines(defines))  # the grammar's errors come first
     if str(output) != "-":
         check_output(output, force=force)
-    result = load_usable(grammar, parse_defines(defines))
     options = MappingOptions(codons, max_wraps, max_depth)
     if target is Target.JSON:
         text = to_json(result.grammar, options)

@@ -426,6 +426,13 @@ def latex(report: StudyReport) -> str:
     )
 
 
+def save_figure(figure: Any, path: Path, **options: Any) -> None:
+    """Render in memory, then replace ``path`` at once: a failed write never leaves half a plot."""
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format=path.suffix.lstrip(".").lower(), **options)
+    write_atomically(path, buffer.getvalue())
+
+
 def convergence_figure(arms: list[ArmRecord]):  # -> matplotlib.figure.Figure
     """Best (left) and average (right) fitness by generation: the mean over runs with its 95 %
     confidence band (t interval of the mean), as the paper's Figs. 3, 4 and 6 without the band."""
@@ -526,19 +533,19 @@ def write_study_report(
     write_atomically(targets[2], latex(report))
     write_atomically(targets[3], jsonio.dumps(report.as_json(), indent=1) + "\n")
     figure = convergence_figure(list(arms))
-    figure.savefig(targets[4], dpi=120)
+    save_figure(figure, targets[4], dpi=120)
     # The same runs give the same SVG, byte for byte: no date, fixed element ids.
     from matplotlib import rc_context  # present: convergence_figure needed it
 
     with rc_context({"svg.hashsalt": "gaitgram"}):
-        figure.savefig(targets[5], metadata={"Date": None})
+        save_figure(figure, targets[5], metadata={"Date": None})
     for name, found in fronts.items():
         if found:
-            front_figure(name, found).savefig(out / figure_name("front", name), dpi=120)
+            save_figure(front_figure(name, found), out / figure_name("front", name), dpi=120)
     for name, repertoire in repertoires.items():
         if repertoire is not None:
             cells = list(chosen) or spread_cells(repertoire, gaits)
-            archive_figure(name, repertoire, cells).savefig(out / figure_name("archive", name), dpi=120)
+            save_figure(archive_figure(name, repertoire, cells), out / figure_name("archive", name), dpi=120)
     return targets + figures
 
 

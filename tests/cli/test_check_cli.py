@@ -171,3 +171,12 @@ def test_every_diagnostic_code_is_documented() -> None:
     documented = (GRAMMARS.parent / "docs" / "diagnostics.md").read_text()
     for code in CODES.values():
         assert f"| {code.code} | `{code.name}` |" in documented, code
+
+
+def test_the_summary_counts_info_messages_in_english(tmp_path: Path) -> None:
+    path = tmp_path / "chains.gg"
+    path.write_text("<a> ::= <b>\n<b> ::= <c>\n<c> ::= x | y\n")
+    result = runner.invoke(app, ["check", str(path)])
+    assert result.exit_code == 0, result.stderr
+    assert result.stdout.count("info[GG206]") == 2
+    assert "2 info messages in 1 file" in result.stderr

@@ -126,6 +126,17 @@ def test_compile_does_not_overwrite_without_force(tmp_path: Path) -> None:
     assert out.read_text() != "precious"
 
 
+def test_compile_reports_the_grammars_errors_before_an_existing_output(tmp_path: Path) -> None:
+    out = tmp_path / "keep.json"
+    out.write_text("precious")
+    broken = tmp_path / "broken.gg"
+    broken.write_text("<a> ::= <nope>\n")
+    result = runner.invoke(app, ["compile", str(broken), "-o", str(out)])
+    assert result.exit_code == 1
+    assert "GG201" in result.output
+    assert out.read_text() == "precious"
+
+
 def test_sample_is_reproducible_and_within_depth() -> None:
     args = ["sample", str(SINE_WALK), "-n", "5", "--max-depth", "6", "--seed", "3", "--json"]
     first = runner.invoke(app, args)
