@@ -50,6 +50,8 @@ class Code:
     fix: Applicability | None = None
     #: What to do about it, for ``--format sarif`` and the docs (set from ``_HELP`` below).
     help: str = ""
+    #: What its fixes do, in Markdown, for the docs (set from ``_FIX_HELP`` below; empty without fixes).
+    fix_help: str = ""
 
     def __str__(self) -> str:
         return self.code
@@ -189,7 +191,40 @@ _HELP = {
     "GG507": "Without @backend, joint names and limits cannot be checked. Declare the backend.",
 }
 
-CODES: dict[str, Code] = {c.code: replace(c, help=_HELP[c.code]) for c in _CODES}
+#: What the fixes of each code with fixes do (Markdown): the catalogue in ``docs/diagnostics.md``.
+_FIX_HELP = {
+    "GG102": "Closes the string at the end of its line, where its text already ends, so it reads the same.",
+    "GG103": "Writes the `\\U` escape a UTF-16 surrogate pair meant (preferred); or escapes the backslash, "
+    "which keeps the text that was read.",
+    "GG104": "Closes a range left open before a `|` (`int[1..5 | int[7..9]`), when both ranges then read "
+    "without errors and only plain text follows the `|`.",
+    "GG106": "Deletes the extra `|`.",
+    "GG107": "Writes the `|` before the new alternative; the grammar reads the same.",
+    "GG108": "Makes the rule derive the empty string, `''`.",
+    "GG109": "Joins UTF-16 surrogate pairs into the characters they encode.",
+    "GG201": "Replaces the name with the nearest defined one (preferred; up to three are offered), or "
+    "defines the rule, `<name> ::= ''`, after the rule that uses it.",
+    "GG202": "Merges the alternatives into the first definition (preferred, when the duplicate has no "
+    "annotations), or deletes the ignored definition.",
+    "GG204": "Deletes the rule with its annotations, together with the unreachable rules that use it, so no "
+    "reference is left undefined (not offered when a reachable rule's ignored duplicate uses it). The"
+    " editor also offers one fix removing every unreachable rule.",
+    "GG301": "Swaps the bounds, when the range then reads without errors.",
+    "GG303": "Makes the upper bound the last value: the range derives exactly the same values.",
+    "GG305": "Makes it a float range, when that reads without errors.",
+    "GG309": "Corrects the type name to `int` or `float` and closes the bracket, making the text the range "
+    "it looks like (not offered when the range would be an error, or the `]` would close an earlier "
+    "bracket or make a following `GE_RANGE:` one).",
+    "GG401": "The nearest known annotation.",
+    "GG403": "Deletes the annotation.",
+    "GG404": "Deletes the extra annotation.",
+    "GG501": "The nearest installed backend.",
+    "GG502": "The nearest joint of the backend.",
+}
+
+CODES: dict[str, Code] = {
+    c.code: replace(c, help=_HELP[c.code], fix_help=_FIX_HELP.get(c.code, "")) for c in _CODES
+}
 CODES_BY_NAME: dict[str, Code] = {c.name: c for c in CODES.values()}
 
 

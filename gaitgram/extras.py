@@ -1,7 +1,7 @@
 """Optional dependencies: import one, or say exactly how to install it.
 
 A plain ``pip install gaitgram`` must start every command; the heavy parts
-(plots, statistics, distribution, optimisers) are extras imported only by the
+(plots, statistics, distribution, optimisers, video) are extras imported only by the
 code that needs them, through :func:`require`, so that a missing one is a
 one-line message with the install command and never a traceback.
 """
@@ -21,6 +21,8 @@ EXTRA_OF_MODULE: dict[str, str] = {
     "cma": "cma-es",
     "pymoo": "nsga2",
     "ribs": "map-elites",
+    "imageio": "video",
+    "imageio_ffmpeg": "video",
 }
 
 

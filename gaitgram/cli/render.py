@@ -1,18 +1,30 @@
-"""``gaitgram render``: a gait as an animation and a strip of frames, rendered offscreen."""
+"""``gaitgram render``: a gait as an animation (GIF or MP4) and a strip of frames, rendered offscreen;
+with ``--compare``, beside the walk seed or another run's best gait."""
 
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from gaitgram.cli.common import err
 from gaitgram.cli.options import Defines
-from gaitgram.cli.selection import SelectionError, select_gait
+from gaitgram.cli.selection import SelectedGait, SelectionError, select_gait
+from gaitgram.extras import MissingExtra
 from gaitgram.ge import CodonMode
 from gaitgram.pipeline import PipelineError
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
+    from gaitgram.motion.gait import MotionBatch
+
+#: ``--compare seed``: the bundled walk seed rather than a run directory.
+SEED = "seed"
 
 
 def fail(message: str, code: int = 2) -> typer.Exit:
@@ -23,7 +35,12 @@ def fail(message: str, code: int = 2) -> typer.Exit:
 def command(
     output: Annotated[
         Path,
-        typer.Option("--output", "-o", help="The animation to write: walk.gif, or walk.mp4 with ffmpeg."),
+        typer.Option(
+            "--output",
+            "-o",
+            help="The animation to write, by its suffix: walk.gif, or walk.mp4 (pip install "
+            "'gaitgram[video]').",
+        ),
     ],
     grammar: Annotated[Path | None, typer.Argument(help="The grammar (not with --run).")] = None,
     run: Annotated[
@@ -48,8 +65,22 @@ def command(
         CodonMode | None, typer.Option(help="Codon consumption, lazy or eager (default lazy).")
     ] = None,
     max_wraps: Annotated[int | None, typer.Option(min=0, help="Wraps allowed (default 3).")] = None,
+    compare: Annotated[
+        str | None,
+        typer.Option(
+            "--compare",
+            metavar="seed|DIR",
+            help="Show a second gait beside this one, in step: 'seed' (the bundled walk seed, on the "
+            "same horse and settings) or a run directory (its best gait, through its own pipeline; "
+            "./seed for a directory named seed).",
+        ),
+    ] = None,
     strip: Annotated[
-        Path | None, typer.Option(help="Also write a PNG strip of frames (default: OUTPUT with .png).")
+        Path | None,
+        typer.Option(
+            help="Also write a PNG strip of frames (default: OUTPUT with .png); with --compare, the "
+            "second gait's strip below."
+        ),
     ] = None,
     fps: Annotated[int, typer.Option(min=1, max=60, help="Frames per second of the animation.")] = 25,
     force: Annotated[bool, typer.Option("--force", help="Overwrite existing output files.")] = False,
@@ -58,13 +89,17 @@ def command(
     """Render a gait on the mujoco-horse backend offscreen (MUJOCO_GL=egl by default).
 
     The gait goes through the same pipeline as scoring: the run's codons, wraps, backend settings
-    (its Froude number sets the stride frequency) and joint freedom.
+    (its Froude number sets the stride frequency) and joint freedom. The output's suffix chooses
+    the format: .gif, or .mp4 (H.264) with the video extra. With --compare, both gaits play side
+    by side, each labelled, for example a run's best beside the seed it started from.
     """
     os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is imported
+    from gaitgram.backends.mujoco_horse.render import RenderError, require_writers
+
     try:
-        import PIL  # noqa: F401
-    except ImportError:
-        raise fail("rendering needs Pillow: pip install 'gaitgram[plot]'") from None
+        require_writers(output)  # the format from the suffix, and its extra: before any work
+    except (RenderError, MissingExtra) as error:
+        raise fail(str(error)) from None
     overrides = {"codons": codons.value if codons is not None else None, "max_wraps": max_wraps}
     try:
         chosen = select_gait(
@@ -77,41 +112,112 @@ def command(
             overrides=overrides,
             defines=defines,
         )
+        other = None if compare in (None, SEED) else _best_of(Path(compare))
     except SelectionError as error:
         raise fail(str(error)) from None
-    pipeline = chosen.pipeline
-    if pipeline.backend != "mujoco-horse":
-        raise fail(f"render draws the mujoco-horse backend; this gait is scored by {pipeline.backend!r}")
+    for gait in (chosen, other):
+        if gait is not None and gait.pipeline.backend != "mujoco-horse":
+            backend = gait.pipeline.backend
+            raise fail(f"render draws the mujoco-horse backend; {gait.describe} is scored by {backend!r}")
     strip = strip or output.with_suffix(".png")
     for path in (output, strip):
         if path.exists() and not force:
             raise fail(f"{path} exists; pass --force to overwrite it")
-    (mapped,) = pipeline.map([chosen.genome])
-    if not mapped.valid:
-        raise fail(f"the genome is invalid ({mapped.reason}); nothing to render", 1)
-    batch = pipeline.motion([mapped], chosen.generation)
-    if batch.problems[0] is not None:
-        raise fail(f"{batch.details[0]}", 1)
+    shown = _Gait.of(chosen)
+    beside = None if compare is None else _Gait.of(other) if other is not None else _Gait.seed(chosen)
 
-    import numpy as np
-
-    from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
-    from gaitgram.backends.mujoco_horse.render import RenderError, render_frames, write_animation, write_strip
+    from gaitgram.backends.mujoco_horse.render import labelled, side_by_side, write_animation, write_strip
 
     try:
-        evaluator = pipeline.load_evaluator({"threads": 1})
-    except PipelineError as error:
-        raise fail(str(error)) from None
-    try:
-        assert isinstance(evaluator, HorseEvaluator)
-        control = evaluator.controls(batch, np.array([0]))[0]
-        frames = render_frames(evaluator, control, fps=fps)
-        write_animation(frames, output, fps)
-        write_strip(frames, strip)
+        frames = shown.frames(fps)
+        if beside is None:
+            animation = frames
+            write_animation(animation, output, fps)
+            write_strip(frames, strip)
+        else:
+            second = beside.frames(fps)
+            animation = side_by_side(labelled(frames, shown.label), labelled(second, beside.label))
+            write_animation(animation, output, fps)
+            write_strip(frames, strip, below=second, labels=(shown.label, beside.label))
     except RenderError as error:
         raise fail(str(error)) from None
     except OSError as error:
         raise fail(f"cannot write {error.filename or output}: {error.strerror or error}") from None
     finally:
-        evaluator.close()
-    err.print(f"wrote {output} ({len(frames)} frames) and {strip}; {chosen.describe}", markup=False)
+        shown.close()
+        if beside is not None:
+            beside.close()
+    what = chosen.describe + (f", beside {beside.label}" if beside is not None else "")
+    err.print(f"wrote {output} ({len(animation)} frames) and {strip}; {what}", markup=False)
+
+
+def _best_of(path: Path) -> SelectedGait:
+    """``--compare DIR``: the run directory's best gait, through its own pipeline."""
+    return select_gait(
+        run=path,
+        grammar=None,
+        genome=None,
+        genome_file=None,
+        generation=None,
+        config=None,
+        overrides={},
+        defines=None,
+    )
+
+
+@dataclass
+class _Gait:
+    """One gait to draw: its motion, the evaluator that plays it, and its label."""
+
+    batch: MotionBatch
+    evaluator: HorseEvaluator
+    label: str
+    owned: bool = True  # close the evaluator when done
+
+    @classmethod
+    def of(cls, chosen: SelectedGait) -> _Gait:
+        """A selected gait, mapped and made motion by its pipeline (exit 1 if it has none)."""
+        pipeline = chosen.pipeline
+        (mapped,) = pipeline.map([chosen.genome])
+        if not mapped.valid:
+            raise fail(f"the genome is invalid ({mapped.reason}); nothing to render", 1)
+        batch = pipeline.motion([mapped], chosen.generation)
+        if batch.problems[0] is not None:
+            raise fail(f"{batch.details[0]}", 1)
+        return cls(batch, _evaluator(chosen), _short(chosen))
+
+    @classmethod
+    def seed(cls, chosen: SelectedGait) -> _Gait:
+        """The bundled walk seed, played by a horse with the chosen gait's backend settings."""
+        from gaitgram.seed import load_seed
+
+        return cls(load_seed().motion_batch(), _evaluator(chosen), "walk seed")
+
+    def frames(self, fps: int) -> list[np.ndarray]:
+        import numpy as np
+
+        from gaitgram.backends.mujoco_horse.render import render_frames
+
+        control = self.evaluator.controls(self.batch, np.array([0]))[0]
+        return render_frames(self.evaluator, control, fps=fps)
+
+    def close(self) -> None:
+        if self.owned:
+            self.evaluator.close()
+
+
+def _evaluator(chosen: SelectedGait) -> HorseEvaluator:
+    from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
+
+    try:
+        evaluator = chosen.pipeline.load_evaluator({"threads": 1})
+    except PipelineError as error:
+        raise fail(str(error)) from None
+    assert isinstance(evaluator, HorseEvaluator)
+    return evaluator
+
+
+def _short(chosen: SelectedGait) -> str:
+    """A label that fits a frame: where the gait comes from (the last part of a long path), and
+    its generation."""
+    return chosen.describe if len(chosen.describe) <= 40 else chosen.describe.rsplit("/", 1)[-1]

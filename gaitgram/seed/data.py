@@ -17,9 +17,13 @@ import math
 from dataclasses import dataclass
 from importlib.resources import as_file, files
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from gaitgram.motion.gait import MotionBatch
 
 SEED_JOINTS = (
     "scapula_fore", "shoulder_fore", "elbow_fore", "carpal_fore", "fetlock_fore",
@@ -82,6 +86,16 @@ class SeedCurves:
         for i, phase in enumerate(self.phases):
             writer.writerow([f"{phase:.4f}", *(f"{self.angles[j][i]:.{decimals}f}" for j in self.angles)])
         return out.getvalue()
+
+    def motion_batch(self, samples: int = 256) -> MotionBatch:
+        """The seed as a one-gait batch, every curve interpolated (periodically) at ``samples``
+        phases: what a backend plays, as it plays a grammar's gaits."""
+        from gaitgram.motion.gait import MotionBatch
+
+        grid = np.arange(samples) / samples
+        phases = np.append(self.phases, 1.0)
+        angles = np.array([np.interp(grid, phases, np.append(c, c[0])) for c in self.angles.values()])
+        return MotionBatch(tuple(self.angles), angles[None], (None,), (None,))
 
 
 def _recipe_curve(recipe: CurveRecipe, phases: NDArray[np.float64]) -> NDArray[np.float64]:

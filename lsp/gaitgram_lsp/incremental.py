@@ -119,8 +119,14 @@ def _unique_spans(segment: Segment) -> list[Span]:
 
 
 def _is_document_wide(problem: Diagnostic) -> bool:
-    """GG207 and the builder's repeated-@start/@backend/@units GG404 (a repeated @joint has a rule)."""
-    return problem.code.code == "GG207" or (problem.code.code == "GG404" and problem.rule is None)
+    """What ``assemble_grammar`` decides for the whole document: GG207, and GG404 for a repeated
+    ``@start``/``@backend``/``@units`` (no rule) or any ``@frequency`` (it depends on every
+    segment's joints). A repeated ``@joint`` is a segment's own GG404."""
+    if problem.code.code == "GG207":
+        return True
+    return problem.code.code == "GG404" and (
+        problem.rule is None or (problem.data or {}).get("annotation") == "frequency"
+    )
 
 
 def _own_defines(annotations: tuple[Annotation, ...]) -> dict[str, int]:

@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from gaitgram.analysis import check
@@ -73,6 +73,8 @@ def same(incremental: IncrementalParser, text: str) -> None:
 
 @settings(max_examples=150, deadline=None)
 @given(text=texts, edits=st.lists(edit, max_size=12), full_parse_at=st.sampled_from([0, 64]))
+# A @joint put on the @frequency rule: its GG404 depends on the whole document (found by CI).
+@example(text=SEEDS[1], edits=[(0.97, 0, "\n@joint hip_hind\n")], full_parse_at=0)
 def test_any_edits_give_the_full_parse(text: str, edits, full_parse_at: int) -> None:
     incremental = IncrementalParser(full_parse_at=full_parse_at)
     same(incremental, text)
