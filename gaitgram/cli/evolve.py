@@ -214,6 +214,9 @@ def _resume(
         given = with_overrides(directory.config, **flags)
         if given.strategy != directory.config.strategy:  # another strategy: its own default settings
             given = replace(given, strategy_settings={})
+    grow_to = None
+    if given is not None and given.runs > directory.config.runs:  # more runs: added, the rest kept
+        grow_to, given = given.runs, replace(given, runs=directory.config.runs)
     found += directory.differences(
         grammar=source, defines=parse_defines(defines) if defines else None, config=given
     )
@@ -223,10 +226,12 @@ def _resume(
             + "\n  - ".join(found)
             + "\nresume with no grammar or flags (the run keeps its own), or start a new run with --out"
         )
+    if grow_to is not None:
+        directory = directory.grow(grow_to)
     load_strategy(directory.pipeline)  # its library is installed, to read the strategy's state
     for run, checkpoint in enumerate(directory.checkpoints):  # all of them, before anything runs
         if checkpoint.exists():
-            load_checkpoint(checkpoint, directory.pipeline, fingerprint=directory.fingerprint, run=run)
+            load_checkpoint(checkpoint, directory.pipeline, fingerprint=directory.fingerprints, run=run)
     return directory
 
 

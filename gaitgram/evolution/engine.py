@@ -272,10 +272,17 @@ def save_checkpoint(path: Path, state: RunState, *, fingerprint: str, run: int) 
 
 
 def load_checkpoint(
-    path: Path, pipeline: Pipeline, *, fingerprint: str, run: int, with_memory: bool = True
+    path: Path,
+    pipeline: Pipeline,
+    *,
+    fingerprint: str | tuple[str, ...],
+    run: int,
+    with_memory: bool = True,
 ) -> RunState:
     """Read a checkpoint back, trusting nothing in it. ``with_memory=False`` leaves a strategy's
-    pickled memory unread (None): enough to read the population, without the strategy's library."""
+    pickled memory unread (None): enough to read the population, without the strategy's library.
+    ``fingerprint`` may name several: the run's, and what the same run was fingerprinted as before
+    (``RunDirectory.fingerprints``)."""
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError) as error:
@@ -311,7 +318,7 @@ def _is_number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
 
 
-def _checked_state(data: Any, pipeline: Pipeline, fingerprint: str, run: int) -> RunState:
+def _checked_state(data: Any, pipeline: Pipeline, fingerprint: str | tuple[str, ...], run: int) -> RunState:
     config = pipeline.config
     _expect(isinstance(data, dict) and set(data) == {"digest", "checkpoint"}, "not a gaitgram checkpoint")
     content = data["checkpoint"]
@@ -319,7 +326,8 @@ def _checked_state(data: Any, pipeline: Pipeline, fingerprint: str, run: int) ->
     version = content.get("version")
     _expect(version == CHECKPOINT_VERSION, f"format version {version!r}, expected {CHECKPOINT_VERSION}")
     _expect(data["digest"] == _digest(content), "its content does not match its digest (edited or damaged)")
-    _expect(content.get("fingerprint") == fingerprint, "it belongs to another run (fingerprint differs)")
+    accepted = (fingerprint,) if isinstance(fingerprint, str) else fingerprint
+    _expect(content.get("fingerprint") in accepted, "it belongs to another run (fingerprint differs)")
     _expect(content.get("run") == run, f"it is run {content.get('run')!r}'s, not run {run}'s")
     generation = content.get("generation")
     _expect(
@@ -467,12 +475,14 @@ def run_evolution(
     run_dir: Path,
     *,
     fingerprint: str,
+    earlier_fingerprints: tuple[str, ...] = (),
     resume: bool = False,
     on_generation: Callable[[int, GenerationStats], None] | None = None,
     should_stop: Callable[[], bool] = lambda: False,
 ) -> RunState:
     """One run of the config's strategy, checkpointed to ``run_dir`` after every generation; stops
-    early if asked."""
+    early if asked. A checkpoint under one of ``earlier_fingerprints`` (the same run, as an older
+    gaitgram fingerprinted it) resumes too; what is saved carries ``fingerprint``."""
     from gaitgram.evolution.records import write_run_records  # records depend on the engine's types
     from gaitgram.strategies.registry import load_strategy
 
@@ -490,7 +500,8 @@ def run_evolution(
             on_generation(run, state.history[-1])
 
     if resume and checkpoint.exists():
-        state = load_checkpoint(checkpoint, pipeline, fingerprint=fingerprint, run=run)
+        accepted = (fingerprint, *earlier_fingerprints)
+        state = load_checkpoint(checkpoint, pipeline, fingerprint=accepted, run=run)
         try:
             state.memory = strategy.restore(context, state.memory)
         except StrategyError as error:

@@ -28,7 +28,7 @@ import hashlib
 import json
 import shutil
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -57,12 +57,16 @@ def _sha256(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-def identity(pipeline: Pipeline, defines: Mapping[str, int]) -> dict[str, Any]:
-    """What a run's results depend on: equal identities make equal runs (settings that change only
-    speed, such as threads, are left out)."""
+def identity(pipeline: Pipeline, defines: Mapping[str, int], *, with_runs: bool = False) -> dict[str, Any]:
+    """What a run's results depend on: equal identities make equal runs. Settings that change only
+    speed, such as threads, are left out, and so is the number of runs: run ``i`` is the same run
+    whatever the count (``run_seed``), which is what lets a directory grow more runs.
+    ``with_runs`` gives the identity as gaitgram 0.1 fingerprinted it, count included."""
     config = pipeline.config
     settings = {k: v for k, v in config.backend_settings.items() if k not in pipeline.spec.runtime_settings}
     meaning = config.as_dict()
+    if not with_runs:
+        del meaning["runs"]
     meaning["backend_settings"] = settings
     meaning["weight_schedule"] = [
         {"start": s.start, "weights": dict(s.weights)} for s in config.weight_schedule
@@ -91,8 +95,9 @@ def strategy_version(config: RunConfig) -> str:
     return get_strategy(config.strategy).version
 
 
-def fingerprint(pipeline: Pipeline, defines: Mapping[str, int]) -> str:
-    text = json.dumps(identity(pipeline, defines), sort_keys=True, separators=(",", ":"), allow_nan=False)
+def fingerprint(pipeline: Pipeline, defines: Mapping[str, int], *, with_runs: bool = False) -> str:
+    found = identity(pipeline, defines, with_runs=with_runs)
+    text = json.dumps(found, sort_keys=True, separators=(",", ":"), allow_nan=False)
     return _sha256(text.encode("utf-8"))
 
 
@@ -108,10 +113,18 @@ class RunDirectory:
     fingerprint: str
     #: Where the grammar was read from when the run started (for people; the copy is what runs).
     origin: str
+    #: The same run as an older gaitgram fingerprinted it (the run count included): a directory
+    #: made then keeps its checkpoints, which carry that fingerprint.
+    earlier_fingerprints: tuple[str, ...] = ()
 
     @property
     def config(self) -> RunConfig:
         return self.pipeline.config
+
+    @property
+    def fingerprints(self) -> tuple[str, ...]:
+        """Every fingerprint this run's checkpoints may carry."""
+        return (self.fingerprint, *self.earlier_fingerprints)
 
     def run_dir(self, run: int) -> Path:
         return self.path / f"run-{run:03d}"
@@ -178,7 +191,7 @@ class RunDirectory:
                 f"{path / GRAMMAR} was edited after the run started; a run keeps the grammar it started "
                 f"with: restore the file (its original is {manifest['origin']}), or start a new run"
             )
-        if _sha256(config_bytes) != manifest["config_sha256"]:
+        if _sha256(config_bytes) not in (manifest["config_sha256"], manifest.get("previous_config_sha256")):
             raise RunDirectoryError(
                 f"{path / CONFIG} was edited after the run started; restore it, or start a new run with "
                 "the new configuration"
@@ -213,12 +226,48 @@ class RunDirectory:
                 "continue differently; finish it with the versions it started with, or start a new run"
             )
         computed = fingerprint(pipeline, defines)
-        if computed != manifest["fingerprint"]:
+        earlier = fingerprint(pipeline, defines, with_runs=True)
+        if manifest["fingerprint"] not in (computed, earlier):
             raise RunDirectoryError(
                 f"{path / MANIFEST}: the saved run does not match its fingerprint (the manifest was edited "
                 "or made by another gaitgram); start a new run"
             )
-        return cls(path, pipeline, dict(defines), computed, manifest["origin"])
+        return cls(path, pipeline, dict(defines), computed, manifest["origin"], (earlier,))
+
+    # ---- growing -----------------------------------------------------------------------
+
+    def grow(self, runs: int) -> RunDirectory:
+        """The same directory with ``runs`` runs: the runs it has stay as they are (run ``i`` is the
+        same run whatever the count), new ones are added. Safe to kill at any point: the manifest,
+        naming both the old and the new configuration, is written before the configuration, and
+        checkpoints fingerprinted with the count are re-saved, one by one, before either."""
+        from gaitgram.evolution.engine import load_checkpoint, save_checkpoint
+
+        if runs < self.config.runs:
+            raise RunDirectoryError(
+                f"{self.path} has {self.config.runs} runs; a run directory grows but never shrinks "
+                f"(ask for {self.config.runs} or more)"
+            )
+        if runs == self.config.runs:
+            return self
+        for run, path in enumerate(self.checkpoints):
+            if path.exists():
+                state = load_checkpoint(path, self.pipeline, fingerprint=self.fingerprints, run=run)
+                saved = json.loads(path.read_text(encoding="utf-8"))["checkpoint"]["fingerprint"]
+                if saved != self.fingerprint:
+                    save_checkpoint(path, state, fingerprint=self.fingerprint, run=run)
+        config = replace(self.config, runs=runs)
+        config_text = config.to_toml()
+        manifest = json.loads(_read_bytes(self.path / MANIFEST).decode("utf-8"))
+        manifest["previous_config_sha256"] = manifest["config_sha256"]
+        manifest["config_sha256"] = _sha256(config_text.encode("utf-8"))
+        manifest["fingerprint"] = self.fingerprint
+        try:
+            write_atomically(self.path / MANIFEST, jsonio.dumps(manifest, indent=1) + "\n")
+            write_atomically(self.path / CONFIG, config_text)
+        except OSError as error:
+            raise RunDirectoryError(f"cannot write {self.path}: {error.strerror or error}") from None
+        return RunDirectory.open(self.path)
 
     # ---- resuming ----------------------------------------------------------------------
 
@@ -318,7 +367,7 @@ def best_of_runs(directory: RunDirectory) -> tuple[int, int, Individual]:
         if not path.exists():
             continue
         state = load_checkpoint(
-            path, directory.pipeline, fingerprint=directory.fingerprint, run=run, with_memory=False
+            path, directory.pipeline, fingerprint=directory.fingerprints, run=run, with_memory=False
         )
         found.append((state.best.fitness, run, state.generation, state.best))
     if not found:

@@ -36,6 +36,7 @@ def run_session(
                 run,
                 directory.run_dir(run),
                 fingerprint=directory.fingerprint,
+                earlier_fingerprints=directory.earlier_fingerprints,
                 resume=resume,
                 on_generation=on_generation,
                 should_stop=should_stop,

@@ -94,7 +94,7 @@ class StudyDirectory:
         if not path.exists():
             return False
         state = load_checkpoint(
-            path, directory.pipeline, fingerprint=directory.fingerprint, run=task.run, with_memory=False
+            path, directory.pipeline, fingerprint=directory.fingerprints, run=task.run, with_memory=False
         )
         return state.generation == directory.config.generations
 
@@ -109,10 +109,15 @@ def prepare_study(study: Study, out: Path) -> StudyDirectory:
     existing = _read_manifest(out)
     if existing is not None:
         names = [a["name"] for a in existing["arms"]]
-        if names != [a.name for a in study.arms] or existing["runs"] != study.runs:
+        if names != [a.name for a in study.arms]:
             raise StudyError(
                 f"{out} holds another study (arms {', '.join(names)}, {existing['runs']} runs each); "
                 "give the same study file and flags to continue it, or choose another -o"
+            )
+        if study.runs < existing["runs"]:
+            raise StudyError(
+                f"{out} holds {existing['runs']} runs per arm and a study never drops runs: give --runs "
+                f"{existing['runs']} to continue it (or more, to add runs), or choose another -o"
             )
     elif out.exists() and (
         not out.is_dir() or any(p.name not in (LOCK_FILE, STOP_FILE) for p in out.iterdir())
@@ -130,7 +135,8 @@ def prepare_study(study: Study, out: Path) -> StudyDirectory:
         path = out / "arms" / arm.name
         if (path / "manifest.json").exists():
             directory = RunDirectory.open(path)
-            if directory.fingerprint != fingerprint(pipeline, arm.defines):
+            changed = directory.fingerprint != fingerprint(pipeline, arm.defines)
+            if changed or directory.config.runs > study.runs:
                 found = directory.differences(
                     grammar=pipeline.grammar.source, defines=arm.defines, config=arm.config
                 )
@@ -139,10 +145,11 @@ def prepare_study(study: Study, out: Path) -> StudyDirectory:
                     + "\n  - ".join(found or ["its backend or engine changed"])
                     + "\ngive the same study file and flags, or choose another -o"
                 )
+            directory = directory.grow(study.runs)  # more runs than before: the new ones are added
         else:
             directory = RunDirectory.create(path, pipeline, defines=arm.defines, origin=str(arm.grammar))
         arms[arm.name] = directory
-    if existing is None:
+    if existing is None or existing["runs"] != study.runs:  # written last: a killed growth grows again
         manifest = {
             "format": STUDY_FORMAT,
             "title": study.title,
@@ -245,6 +252,7 @@ def run_task(arm_path: str, run: int, threads: int, stop_file: str) -> TaskResul
         run,
         directory.run_dir(run),
         fingerprint=directory.fingerprint,
+        earlier_fingerprints=directory.earlier_fingerprints,
         resume=True,
         should_stop=lambda: os.path.exists(stop_file),
     )
@@ -392,7 +400,7 @@ def _write_arm_summaries(directory: StudyDirectory) -> None:
             if not path.exists():
                 break
             state = load_checkpoint(
-                path, arm.pipeline, fingerprint=arm.fingerprint, run=run, with_memory=False
+                path, arm.pipeline, fingerprint=arm.fingerprints, run=run, with_memory=False
             )
             if state.generation != arm.config.generations:
                 break

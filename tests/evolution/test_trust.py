@@ -421,3 +421,59 @@ def test_a_full_disk_mid_run_is_an_error_message_and_resumable(tmp_path: Path) -
         [*command[:3], "evolve", "--resume", str(run), "-q"], capture_output=True, text=True
     )
     assert resumed.returncode == 0, resumed.stderr
+
+
+# ---- a run directory grows more runs, and never changes the ones it has ------------------
+
+
+def test_resume_with_more_runs_adds_them_and_equals_a_fresh_run(tmp_path: Path, finished_run: Path) -> None:
+    grown = evolve("--resume", str(finished_run), "--runs", "3")
+    assert grown.exit_code == 0, grown.stderr
+    grammar, config = tmp_path / "g.gg", tmp_path / "run.toml"
+    fresh = evolve(str(grammar), "-c", str(config), "--runs", "3", "-o", str(tmp_path / "fresh"))
+    assert fresh.exit_code == 0, fresh.stderr
+    for run in range(3):
+        name = f"run-{run:03d}/stats.csv"
+        assert (finished_run / name).read_text() == (tmp_path / "fresh" / name).read_text()
+    assert (finished_run / "summary.json").read_text() == (tmp_path / "fresh" / "summary.json").read_text()
+    fewer = evolve("--resume", str(finished_run), "--runs", "2")
+    assert fewer.exit_code == 2
+    assert "runs: 3 -> 2" in fewer.stderr
+
+
+def test_a_directory_fingerprinted_with_its_run_count_still_opens_and_grows(finished_run: Path) -> None:
+    """Directories made before the run count left the fingerprint (docs/results/ holds some) keep
+    working: they open, resume, and grow, their checkpoints re-saved under the new fingerprint."""
+    from gaitgram.evolution.engine import load_checkpoint, save_checkpoint
+    from gaitgram.evolution.rundir import RunDirectory, best_of_runs, fingerprint
+
+    directory = RunDirectory.open(finished_run)
+    legacy = fingerprint(directory.pipeline, directory.defines, with_runs=True)
+    assert legacy != directory.fingerprint
+    checkpoint = finished_run / "run-000" / "checkpoint.json"
+    state = load_checkpoint(checkpoint, directory.pipeline, fingerprint=directory.fingerprint, run=0)
+    save_checkpoint(checkpoint, state, fingerprint=legacy, run=0)
+    manifest = json.loads((finished_run / "manifest.json").read_text())
+    (finished_run / "manifest.json").write_text(json.dumps({**manifest, "fingerprint": legacy}))
+
+    reopened = RunDirectory.open(finished_run)
+    assert best_of_runs(reopened)[2].fitness == state.best.fitness
+    assert evolve("--resume", str(finished_run)).exit_code == 0
+    grown = reopened.grow(2)
+    assert grown.config.runs == 2
+    assert json.loads(checkpoint.read_text())["checkpoint"]["fingerprint"] == grown.fingerprint
+    assert json.loads((finished_run / "manifest.json").read_text())["fingerprint"] == grown.fingerprint
+    with pytest.raises(ValueError, match="never shrinks"):
+        grown.grow(1)
+
+
+def test_a_growth_killed_between_manifest_and_config_still_opens(finished_run: Path) -> None:
+    """The manifest names the old and the new configuration, so the directory opens whichever of
+    the two config.toml holds when a growth is killed."""
+    from gaitgram.evolution.rundir import RunDirectory
+
+    before = (finished_run / "config.toml").read_text()
+    RunDirectory.open(finished_run).grow(2)
+    (finished_run / "config.toml").write_text(before)  # as if killed before config.toml was replaced
+    assert RunDirectory.open(finished_run).config.runs == 1
+    assert RunDirectory.open(finished_run).grow(2).config.runs == 2

@@ -192,3 +192,22 @@ def test_a_small_share_never_reads_as_none() -> None:
     from gaitgram.study.report import _rate
 
     assert [_rate(v) for v in (0.0, 0.0004, 0.004, 0.9, None)] == ["0%", "< 0.1%", "0.4%", "90%", "n/a"]
+
+
+def test_a_study_grows_more_runs_and_never_drops_any(tmp_path: Path) -> None:
+    study = write_study(tmp_path)
+    small = gaitgram("study", str(study), "-o", str(tmp_path / "s"), "-q", "--runs", "2")
+    assert small.returncode == 0, small.stderr
+    grown = gaitgram("study", str(study), "-o", str(tmp_path / "s"), "-q")  # the file's 3 runs
+    assert grown.returncode == 0, grown.stderr
+    whole = gaitgram("study", str(study), "-o", str(tmp_path / "whole"), "-q")
+    assert whole.returncode == 0, whole.stderr
+    for arm in ("plain", "mutant"):
+        for name in ("summary.json", *(f"run-{run:03d}/stats.csv" for run in range(3))):
+            assert (tmp_path / "s" / "arms" / arm / name).read_text() == (
+                tmp_path / "whole" / "arms" / arm / name
+            ).read_text()
+    assert json.loads((tmp_path / "s" / "study.json").read_text())["runs"] == 3
+    fewer = gaitgram("study", str(study), "-o", str(tmp_path / "s"), "-q", "--runs", "2")
+    assert fewer.returncode == 2
+    assert "holds 3 runs per arm" in fewer.stderr
