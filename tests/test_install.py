@@ -157,6 +157,9 @@ def test_the_wheel_carries_every_data_file_of_the_packages(dists: tuple[Path, Pa
     entry_points = zipfile.ZipFile(dists[1]).read("gaitgram-0.1.0.dist-info/entry_points.txt").decode()
     assert "gaitgram = gaitgram.cli:main" in entry_points
     assert "mujoco-horse = gaitgram.backends.mujoco_horse:BACKEND" in entry_points
+    assert "gaitgram-0.1.0.dist-info/licenses/LICENSE" in names
+    metadata = zipfile.ZipFile(dists[1]).read("gaitgram-0.1.0.dist-info/METADATA").decode()
+    assert "License-Expression: MIT" in metadata
 
 
 def test_the_sdist_carries_what_builds_tests_and_documents_the_package(dists: tuple[Path, Path]) -> None:
@@ -164,7 +167,14 @@ def test_the_sdist_carries_what_builds_tests_and_documents_the_package(dists: tu
         names = {name.split("/", 1)[1] for name in sdist.getnames() if "/" in name}
     expected = set(tracked("gaitgram", "lsp", "grammars", "seeds", "studies", "tests", "benchmarks"))
     expected |= {name for name in tracked("docs") if "/runs/" not in name}
-    expected |= {"pyproject.toml", "README.md", "MANIFEST.in", ".pre-commit-hooks.yaml", "mkdocs.yml"}
+    expected |= {
+        "pyproject.toml",
+        "README.md",
+        "LICENSE",
+        "MANIFEST.in",
+        ".pre-commit-hooks.yaml",
+        "mkdocs.yml",
+    }
     expected = {name for name in expected if "__pycache__" not in name}
     assert expected <= names, sorted(expected - names)[:20]
     assert not [name for name in names if "/runs/" in name]  # study outputs stay in the repository
