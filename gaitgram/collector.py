@@ -13,6 +13,8 @@ from contextlib import contextmanager
 from functools import wraps
 from typing import ParamSpec, TypeVar
 
+__all__ = ["gc_paused", "without_gc"]
+
 P = ParamSpec("P")
 R = TypeVar("R")
 

@@ -21,6 +21,19 @@ if TYPE_CHECKING:  # a runtime import would be circular: the language package re
     from gaitgram.language.source import Span
 
 
+__all__ = [
+    "CODES",
+    "CODES_BY_NAME",
+    "Applicability",
+    "Code",
+    "Diagnostic",
+    "Fix",
+    "Severity",
+    "TextEdit",
+    "diagnostic",
+]
+
+
 class Severity(StrEnum):
     ERROR = "error"
     WARNING = "warning"

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from gaitgram._gc import without_gc
 from gaitgram.analysis.cfg import Cfg, build_cfg
 from gaitgram.analysis.facts import GrammarFacts, RuleFacts, analyse
 from gaitgram.analysis.lint import lint
+from gaitgram.collector import without_gc
 from gaitgram.diagnostics import Diagnostic
 from gaitgram.language.model import Grammar
 

@@ -19,6 +19,8 @@ from enum import IntEnum
 
 from gaitgram.language.model import Grammar, NonTerminal, RangeSpec, RangeSymbol, Terminal
 
+__all__ = ["Cfg", "Item", "RuleKind", "build_cfg"]
+
 Item = int | str
 
 

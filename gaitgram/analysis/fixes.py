@@ -27,6 +27,19 @@ from gaitgram.language import parse
 from gaitgram.language.edits import EditConflict, apply_edits, conflicts, normalized, union
 from gaitgram.language.source import Location, SourceText
 
+__all__ = [
+    "MAX_PASSES",
+    "AppliedFix",
+    "ErrorKey",
+    "FixOutcome",
+    "chosen_fix",
+    "combine",
+    "error_keys",
+    "fix_all",
+    "fix_source",
+    "no_worse",
+]
+
 #: ``check --fix`` gives up after this many rounds of fixing and checking again.
 MAX_PASSES = 20
 

@@ -18,6 +18,8 @@ from gaitgram.language.model import Alternative, Rule, Terminal
 from gaitgram.language.ranges import parse_range
 from gaitgram.language.source import SourceText, Span
 
+__all__ = ["MAX_EXPANDED", "collapses", "expansions", "range_for", "rewrites"]
+
 #: A typed range is expanded only up to this many values.
 MAX_EXPANDED = 200
 _NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d+)?|\.\d+)")

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 from functools import cached_property
 from importlib.resources.abc import Traversable
 
+__all__ = ["CatalogueError", "Joint", "JointCatalogue", "load_catalogue"]
+
 
 @dataclass(frozen=True, slots=True)
 class Joint:

@@ -20,6 +20,16 @@ from typing import Any
 from gaitgram.backends.api import SettingsError
 from gaitgram.backends.catalogue import JointCatalogue
 
+__all__ = [
+    "ENTRY_POINT_GROUP",
+    "BackendLoadError",
+    "BackendNotFound",
+    "BackendSpec",
+    "backend_names",
+    "backend_version",
+    "get_backend",
+]
+
 ENTRY_POINT_GROUP = "gaitgram.backends"
 
 

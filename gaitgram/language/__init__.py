@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from pathlib import Path
 
-from gaitgram._gc import without_gc
+from gaitgram.collector import without_gc
 from gaitgram.language.builder import build_grammar
 from gaitgram.language.model import Grammar
 from gaitgram.language.parser import parse_tree

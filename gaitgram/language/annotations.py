@@ -15,6 +15,16 @@ from gaitgram.diagnostics import Diagnostic, Fix, TextEdit, diagnostic
 from gaitgram.language.model import Annotation, Argument, ArgumentValue, Interval, Name, RuleRef
 from gaitgram.language.ranges import NUMBER_LIMITS, number_problem, read_number
 
+__all__ = [
+    "ANNOTATIONS",
+    "AnnotationKind",
+    "CheckedAnnotation",
+    "Parameter",
+    "Target",
+    "ValueType",
+    "check_annotation",
+]
+
 
 class Target(StrEnum):
     FILE = "file"  # applies to the whole grammar, wherever it is written

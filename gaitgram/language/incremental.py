@@ -1,5 +1,9 @@
 """Incremental parsing: after an edit, read again only the parts of a document it touched.
 
+Public API for editors (the language server uses it): :class:`IncrementalParser` gives
+exactly what :func:`gaitgram.language.parse` gives, for one document that changes a little at
+a time.
+
 A full ``parse`` of a 5,000-rule grammar takes a third of a second, most of it in the
 scanner and the model builder, so the server cannot afford one per keystroke. But the
 scanner has no state at a line that starts with an item: every line start is a token
@@ -13,46 +17,41 @@ rule it annotates.
 Each segment is read once and kept, keyed by its text; after an edit only new texts are
 read. A kept segment that moved has its spans shifted in place, which is cheap, but it
 means a :class:`~gaitgram.language.model.Grammar` from an earlier call must not be read
-once a later call has started (``documents.py`` guarantees it).
+once a later call has started (the language server's ``documents.py`` guarantees it).
 
 What depends on the whole document is recomputed from the segments, as the builder does:
 ``@start``/``@backend``/``@units`` (and GG404 for repeats), GG207, and the ``@define``
-values that ``GE_RANGE:name`` reads. ``tests/lsp/test_lsp_incremental.py`` checks that the
+values that ``GE_RANGE:name`` reads. ``tests/language/test_incremental.py`` checks that the
 result equals ``parse(text)``, spans and diagnostics included, over random edits.
 """
 
 from __future__ import annotations
 
-import re
 from bisect import bisect_right
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from functools import cache
 
-from gaitgram._gc import gc_paused
+from gaitgram.collector import gc_paused
 from gaitgram.diagnostics import Diagnostic
 from gaitgram.language import parse
 from gaitgram.language.annotations import ANNOTATIONS, Target, check_annotation
 from gaitgram.language.builder import assemble_grammar, build_grammar
 from gaitgram.language.model import Annotation, Grammar, JointDecl, Rule
-from gaitgram.language.parser import parse_tree, scanner
+from gaitgram.language.parser import parse_tree
 from gaitgram.language.source import SourceText, Span
+from gaitgram.language.syntax import item_lines
+
+__all__ = ["FULL_PARSE_AT", "IncrementalParser", "segment_starts"]
 
 #: With more new segments than this (and than a quarter of them), one full parse is cheaper.
 FULL_PARSE_AT = 64
-
-
-@cache
-def _item_lines() -> re.Pattern[str]:
-    """The scanner's structural tokens (rule heads, annotations), at line starts only."""
-    return re.compile(f"(?m:^)(?:{scanner().structural.pattern})")
 
 
 def segment_starts(text: str) -> list[int]:
     """Offsets where independent segments start (always 0 first)."""
     starts = [0]
     previous_was_rule = False
-    for found in _item_lines().finditer(text):
+    for found in item_lines().finditer(text):
         is_rule = found.lastgroup == "RULE_HEAD"
         if is_rule and previous_was_rule and found.start() > 0:
             starts.append(found.start())

@@ -16,6 +16,27 @@ from functools import cached_property
 from gaitgram.diagnostics import Diagnostic
 from gaitgram.language.source import SourceText, Span
 
+__all__ = [
+    "FREQUENCY",
+    "Alternative",
+    "Annotation",
+    "Argument",
+    "ArgumentValue",
+    "FrequencyDecl",
+    "Grammar",
+    "Interval",
+    "JointDecl",
+    "Name",
+    "NonTerminal",
+    "RangeKind",
+    "RangeSpec",
+    "RangeSymbol",
+    "Rule",
+    "RuleRef",
+    "Symbol",
+    "Terminal",
+]
+
 
 @dataclass(slots=True, unsafe_hash=True)
 class Terminal:

@@ -16,6 +16,21 @@ from typing import BinaryIO
 
 from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit, diagnostic
 
+__all__ = [
+    "MAX_SOURCE_BYTES",
+    "Location",
+    "SourceError",
+    "SourceText",
+    "Span",
+    "decode_source",
+    "describe_os_error",
+    "normalize_newlines",
+    "read_bytes",
+    "read_limited",
+    "read_source",
+    "unencodable_text",
+]
+
 
 @dataclass(slots=True, order=True, unsafe_hash=True)
 class Span:
@@ -60,7 +75,7 @@ class SourceText:
 
     text: str
     name: str = "<text>"
-    _line_starts: tuple[int, ...] = field(init=False, repr=False, compare=False)
+    line_starts: tuple[int, ...] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         text = normalize_newlines(self.text)
@@ -71,33 +86,33 @@ class SourceText:
         while pos != -1:
             starts.append(pos + 1)
             pos = find("\n", pos + 1)
-        object.__setattr__(self, "_line_starts", tuple(starts))
+        object.__setattr__(self, "line_starts", tuple(starts))
 
     @property
     def line_count(self) -> int:
-        return len(self._line_starts)
+        return len(self.line_starts)
 
     def location(self, offset: int) -> Location:
         offset = max(0, min(offset, len(self.text)))
-        line = bisect_right(self._line_starts, offset) - 1
-        return Location(line + 1, offset - self._line_starts[line] + 1)
+        line = bisect_right(self.line_starts, offset) - 1
+        return Location(line + 1, offset - self.line_starts[line] + 1)
 
     def offset(self, line: int, column: int) -> int:
         """The offset of a 1-based line and column, clamped to the text."""
         if line < 1:
             return 0
-        if line > len(self._line_starts):
+        if line > len(self.line_starts):
             return len(self.text)
-        start = self._line_starts[line - 1]
+        start = self.line_starts[line - 1]
         return min(start + max(column, 1) - 1, self.line_end(line))
 
     def line_end(self, line: int) -> int:
-        if line < len(self._line_starts):
-            return self._line_starts[line] - 1
+        if line < len(self.line_starts):
+            return self.line_starts[line] - 1
         return len(self.text)
 
     def line_text(self, line: int) -> str:
-        start = self._line_starts[line - 1]
+        start = self.line_starts[line - 1]
         return self.text[start : self.line_end(line)]
 
     def slice(self, span: Span) -> str:

@@ -1,7 +1,7 @@
 """Open documents, and their analyses by version: the server's only state.
 
 Edits are applied as they arrive; the analysis (parse + ``check``) runs debounced, in one
-worker thread, one at a time, incrementally (``incremental.py``). Its result, a
+worker thread, one at a time, incrementally (``gaitgram.language.incremental``). Its result, a
 :class:`Snapshot`, belongs to one revision of the text. It is published only if that is
 still the document's revision when it is ready, and features read it only while it is:
 
@@ -32,14 +32,14 @@ from pathlib import Path
 
 from lsprotocol import types
 
-from gaitgram._gc import gc_paused
 from gaitgram.analysis import CheckResult, check
+from gaitgram.collector import gc_paused
 from gaitgram.language import parse
+from gaitgram.language.incremental import IncrementalParser
 from gaitgram.language.source import SourceText
 from gaitgram_lsp.features.completion import CompletionModel
 from gaitgram_lsp.features.diagnostics import WireDiagnostic, to_lsp, wire_diagnostics
-from gaitgram_lsp.incremental import IncrementalParser
-from gaitgram_lsp.positions import UTF16, PositionIndex, apply_change, raw_line_starts
+from gaitgram_lsp.positions import UTF16, ClientText, PositionIndex
 
 log = logging.getLogger(__name__)
 _result_ids = itertools.count(1)
@@ -154,7 +154,7 @@ class Document:
     """The client's text of one document, and where its analysis stands."""
 
     uri: str
-    text: str
+    client: ClientText
     version: int | None
     revision: int = 0
     parser: IncrementalParser = field(default_factory=IncrementalParser)
@@ -166,7 +166,10 @@ class Document:
     _waiters: list[tuple[int, asyncio.Future[Snapshot | None]]] = field(default_factory=list)
     _timer: asyncio.TimerHandle | None = None
     _task: asyncio.Task[None] | None = None
-    _line_starts: tuple[int, list[int]] | None = None
+
+    @property
+    def text(self) -> str:
+        return self.client.text
 
     @property
     def current(self) -> Snapshot | None:
@@ -176,13 +179,7 @@ class Document:
 
     def line(self, number: int) -> str:
         """A line of the current text (``""`` past the end), for a cheap look at the cursor."""
-        if self._line_starts is None or self._line_starts[0] != self.revision:
-            self._line_starts = (self.revision, raw_line_starts(self.text))
-        starts = self._line_starts[1]
-        if number >= len(starts):
-            return ""
-        end = starts[number + 1] if number + 1 < len(starts) else len(self.text)
-        return self.text[starts[number] : end].rstrip("\r\n")
+        return self.client.line(number)
 
 
 class Documents:
@@ -206,7 +203,7 @@ class Documents:
 
     def open(self, uri: str, text: str, version: int | None) -> None:
         self.close(uri)
-        document = Document(uri, text, version, parser=IncrementalParser(self.defines))
+        document = Document(uri, ClientText.of(text), version, parser=IncrementalParser(self.defines))
         self._open[uri] = document
         self._start(document)  # nothing to debounce: the user is looking at it now
 
@@ -216,13 +213,12 @@ class Documents:
         document = self._open.get(uri)
         if document is None:
             return
-        text = document.text
         for change in changes:
             if isinstance(change, types.TextDocumentContentChangePartial):
-                text = apply_change(text, change.range, change.text, self.encoding)
+                document.client.apply(change.range, change.text, self.encoding)
             else:
-                text = change.text
-        document.text, document.version = text, version
+                document.client = ClientText.of(change.text)
+        document.version = version
         document.revision += 1
         self._resolve(document, None)  # requests about older text are stale now
         if document._timer is not None:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import re
 from bisect import bisect_right
 from collections.abc import Iterable, Iterator
+from itertools import accumulate
 
 from lsprotocol import types
 
@@ -77,7 +78,7 @@ class PositionIndex:
     def line_characters(self, offsets: Iterable[int]) -> list[tuple[int, int]]:
         """Many offsets' lines and characters at once (thousands of diagnostics per change)."""
         source = self.source
-        starts = source._line_starts  # private, but the index is what makes this cheap
+        starts = source.line_starts
         size = len(source.text)
         found = []
         for offset in offsets:
@@ -110,7 +111,7 @@ class PositionIndex:
         """(line, character) of ascending offsets, walking the lines once: for the many
         positions of semantic tokens."""
         source = self.source
-        starts = source._line_starts  # private, but the index is what makes this cheap
+        starts = source.line_starts
         line = 0
         last = len(starts) - 1
         for offset in offsets:
@@ -129,17 +130,80 @@ def raw_line_starts(text: str) -> list[int]:
 
 def apply_change(text: str, range_: types.Range, new_text: str, encoding: str) -> str:
     """Apply one incremental change to the client's text (positions clamped as LSP says)."""
-    starts = raw_line_starts(text)
+    client = ClientText.of(text)
+    client.apply(range_, new_text, encoding)
+    return client.text
 
-    def offset(position: types.Position) -> int:
-        if position.line >= len(starts):
-            return len(text)
-        start = starts[position.line]
-        end = starts[position.line + 1] if position.line + 1 < len(starts) else len(text)
-        line = text[start:end].rstrip("\r\n")
-        return start + column(line, position.character, encoding)
 
-    start, end = offset(range_.start), offset(range_.end)
-    if end < start:
-        start, end = end, start
-    return text[:start] + new_text + text[end:]
+class ClientText:
+    """The client's copy of a document, line breaks as sent, kept as its lines. A change
+    re-reads only the lines it touches and splices them in; the whole text is joined once, when
+    an analysis asks for it. On a 20,000-rule document, changes arriving by the hundred must not
+    hold up the completion request queued behind them, as a scan of the text per change would.
+
+    Line ``i`` holds its break (``\\n``, ``\\r\\n`` or ``\\r``, as in LSP); the last has none."""
+
+    def __init__(self, lines: list[str]) -> None:
+        self.lines = lines
+        self._text: str | None = None
+
+    @classmethod
+    def of(cls, text: str) -> ClientText:
+        starts = raw_line_starts(text)
+        return cls([text[a:b] for a, b in zip(starts, [*starts[1:], len(text)], strict=True)])
+
+    @property
+    def text(self) -> str:
+        if self._text is None:
+            self._text = "".join(self.lines)
+        return self._text
+
+    @property
+    def starts(self) -> list[int]:
+        """Every line's start offset (built on demand: the edits do not need it)."""
+        return list(accumulate((len(line) for line in self.lines[:-1]), initial=0))
+
+    def line(self, number: int) -> str:
+        """Line ``number`` (0-based) without its break; ``""`` past the end."""
+        return self.lines[number].rstrip("\r\n") if number < len(self.lines) else ""
+
+    def _locate(self, position: types.Position, encoding: str) -> tuple[int, int]:
+        """(line, offset in the line), clamped as LSP says: a line past the end is the end."""
+        if position.line >= len(self.lines):
+            return len(self.lines) - 1, len(self.lines[-1])
+        return position.line, column(self.line(position.line), position.character, encoding)
+
+    def apply(self, range_: types.Range, new_text: str, encoding: str) -> None:
+        start, end = sorted((self._locate(range_.start, encoding), self._locate(range_.end, encoding)))
+        lines = self.lines
+        # From the line before the edit's first (a \\r\\n may join or split at the edit) to the
+        # line after its last, whose break lies wholly after the edit: re-read.
+        first, last = max(start[0] - 1, 0), min(end[0] + 1, len(lines) - 1)
+        region = "".join(lines[first : last + 1])
+        cut = sum(len(line) for line in lines[first : start[0]]) + start[1]
+        resume = sum(len(line) for line in lines[first : end[0]]) + end[1]
+        edited = region[:cut] + new_text + region[resume:]
+        starts = raw_line_starts(edited)
+        spliced = [edited[a:b] for a, b in zip(starts, [*starts[1:], len(edited)], strict=True)]
+        if last < len(lines) - 1:  # the region ends with a break: no empty line after it
+            spliced.pop()
+        lines[first : last + 1] = spliced
+        self._text = None
+
+
+#: LSP's ``uinteger`` ends at 2^31 - 1.
+MAX_UINTEGER = 2**31 - 1
+
+
+def position_problems(value: object) -> list[str]:
+    """Why ``value`` is not an LSP position (empty: it is one). A client that sends a negative,
+    huge or fractional line or character gets an InvalidParams answer naming it, not silence or
+    a guess (lsprotocol's own converter turns 1.5 into 1)."""
+    if not isinstance(value, dict):
+        return [f"a position must be an object with line and character, not {value!r}"]
+    found = []
+    for name in ("line", "character"):
+        number = value.get(name)
+        if type(number) is not int or not 0 <= number <= MAX_UINTEGER:
+            found.append(f"position.{name} must be an integer in [0, {MAX_UINTEGER}], not {number!r}")
+    return found

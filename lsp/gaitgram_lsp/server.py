@@ -12,11 +12,13 @@ import json
 import logging
 import sys
 
+import cattrs
+from cattrs.errors import ClassValidationError
 from lsprotocol import types
 from pygls.capabilities import get_capability
-from pygls.exceptions import JsonRpcContentModified
+from pygls.exceptions import JsonRpcContentModified, JsonRpcInvalidParams
 from pygls.lsp.server import LanguageServer
-from pygls.protocol import LanguageServerProtocol
+from pygls.protocol import JsonRPCNotification, LanguageServerProtocol, default_converter
 from pygls.protocol.language_server import lsp_method
 
 from gaitgram import __version__
@@ -31,13 +33,46 @@ from gaitgram_lsp.features import (
     navigation,
     semantic_tokens,
 )
-from gaitgram_lsp.positions import column
+from gaitgram_lsp.positions import column, position_problems
 
 #: Seconds the analysis thread may hold the GIL while the event loop waits for it.
 SWITCH_INTERVAL = 0.0005
 
 
+def strict_converter() -> cattrs.Converter:
+    """pygls's converter, with positions checked: out of range or not integers is InvalidParams."""
+    converter = default_converter()
+
+    def position(value: object, _: type) -> types.Position:
+        if problems := position_problems(value):
+            raise ClassValidationError(problems[0], [ValueError(p) for p in problems], types.Position)
+        return types.Position(line=value["line"], character=value["character"])  # type: ignore[index]
+
+    converter.register_structure_hook(types.Position, position)
+    return converter
+
+
+def _leaves(error: BaseException) -> list[str]:
+    """The innermost messages of cattrs's nested exception groups: what was actually wrong."""
+    if isinstance(error, BaseExceptionGroup):
+        return [leaf for inner in error.exceptions for leaf in _leaves(inner)]
+    return [str(error)]
+
+
 class GaitgramProtocol(LanguageServerProtocol):
+    def structure_message(self, data: dict):  # type: ignore[no-untyped-def]  # pygls's signature
+        """As pygls's, but a request whose parameters do not read gets its InvalidParams answer
+        (pygls logs it and never answers, so the client waits forever)."""
+        try:
+            return super().structure_message(data)
+        except JsonRpcInvalidParams as error:
+            if not ("id" in data and "method" in data):
+                raise
+            reason = "; ".join(_leaves(error.__cause__ or error))
+            message = f"invalid params for {data['method']}: {reason}"
+            self._send_response(data["id"], error=types.ResponseError(code=error.code, message=message))
+            return JsonRPCNotification(method="$/gaitgram/answered", jsonrpc="2.0", params=None)
+
     @lsp_method(types.TEXT_DOCUMENT_DID_CHANGE)
     def lsp_text_document__did_change(self, params: types.DidChangeTextDocumentParams):
         """As pygls's, without updating pygls's own copy of the text: ``documents.py`` keeps
@@ -65,6 +100,7 @@ class GaitgramServer(LanguageServer):
             __version__,
             text_document_sync_kind=types.TextDocumentSyncKind.Incremental,
             protocol_cls=GaitgramProtocol,
+            converter_factory=strict_converter,
         )
         self.documents = Documents(self.publish)
         self.pull_diagnostics = False

@@ -9,10 +9,11 @@ from pathlib import Path
 import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
+from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, rule
 
 from gaitgram.analysis import check
 from gaitgram.language import parse
-from gaitgram_lsp.incremental import IncrementalParser, segment_starts
+from gaitgram.language.incremental import IncrementalParser, segment_starts
 
 GRAMMARS = Path(__file__).resolve().parents[2] / "grammars"
 
@@ -111,3 +112,54 @@ def test_a_5000_rule_document_reads_one_segment_per_edited_rule() -> None:
 )
 def test_segments_start_at_rule_lines_with_nothing_pending(text: str, starts: list[int]) -> None:
     assert segment_starts(text) == starts
+
+
+class EditingADocument(RuleBasedStateMachine):
+    """An editor's session: a document, edits anywhere (typing, deleting, pasting, replacing the
+    whole text), and after each one the incremental parse equals the full parse."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.text = ""
+        self.parser = IncrementalParser(full_parse_at=0)
+
+    @initialize(text=texts)
+    def open_document(self, text: str) -> None:
+        self.text = text
+
+    @rule(
+        where=st.floats(0, 1), inserted=st.lists(st.sampled_from(PIECES), min_size=1, max_size=3).map("".join)
+    )
+    def type_text(self, where: float, inserted: str) -> None:
+        at = round(where * len(self.text))
+        self.text = self.text[:at] + inserted + self.text[at:]
+
+    @rule(where=st.floats(0, 1), length=st.integers(1, 40))
+    def delete(self, where: float, length: int) -> None:
+        at = round(where * len(self.text))
+        self.text = self.text[:at] + self.text[at + length :]
+
+    @rule(where=st.floats(0, 1), length=st.integers(0, 12), inserted=st.sampled_from(PIECES))
+    def replace(self, where: float, length: int, inserted: str) -> None:
+        at = round(where * len(self.text))
+        self.text = self.text[:at] + inserted + self.text[at + length :]
+
+    @rule(text=texts)
+    def replace_everything(self, text: str) -> None:
+        self.text = text
+
+    @rule()
+    def forget_what_was_kept(self) -> None:
+        self.parser.reset()
+
+    @rule(limit=st.sampled_from([0, 64]))
+    def choose_when_to_read_everything(self, limit: int) -> None:
+        self.parser.full_parse_at = limit  # 0: often one full parse cut into segments; 64: never
+
+    @invariant()
+    def the_incremental_parse_is_the_full_parse(self) -> None:
+        same(self.parser, self.text)
+
+
+EditingADocument.TestCase.settings = settings(max_examples=60, stateful_step_count=12, deadline=None)
+test_an_editing_session_always_parses_as_a_whole = EditingADocument.TestCase

@@ -8,12 +8,13 @@ import json
 import weakref
 
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 from lsprotocol import types
 from pygls.protocol import default_converter
 
 from gaitgram.language.source import SourceText, Span
+from gaitgram.language.syntax import is_rule_name
 from gaitgram_lsp.documents import Documents, analyse
 from gaitgram_lsp.features import (
     code_actions,
@@ -25,7 +26,17 @@ from gaitgram_lsp.features import (
 )
 from gaitgram_lsp.features.completion import Where, context
 from gaitgram_lsp.features.diagnostics import SEVERITY
-from gaitgram_lsp.positions import UTF8, UTF16, UTF32, PositionIndex, apply_change, column, units
+from gaitgram_lsp.positions import (
+    UTF8,
+    UTF16,
+    UTF32,
+    ClientText,
+    PositionIndex,
+    apply_change,
+    column,
+    raw_line_starts,
+    units,
+)
 
 EMOJI_LINE = "<a> ::= '😀é' <b>\n<b> ::= x\n"
 
@@ -51,6 +62,50 @@ def test_incremental_changes_use_lsp_line_breaks() -> None:
     text = "a\r\nb😀c\rd\u2028e\n"
     change = types.Range(start=types.Position(line=1, character=3), end=types.Position(line=2, character=1))
     assert apply_change(text, change, "X", UTF16) == "a\r\nb😀X\u2028e\n"  # \r ends a line, U+2028 does not
+
+
+def _full_apply(text: str, range_: types.Range, inserted: str, encoding: str) -> str:
+    """The change applied the slow, obvious way: every line start scanned again."""
+    starts = raw_line_starts(text)
+
+    def offset(position: types.Position) -> int:
+        if position.line >= len(starts):
+            return len(text)
+        end = starts[position.line + 1] if position.line + 1 < len(starts) else len(text)
+        line = text[starts[position.line] : end].rstrip("\r\n")
+        return starts[position.line] + column(line, position.character, encoding)
+
+    start, end = sorted((offset(range_.start), offset(range_.end)))
+    return text[:start] + inserted + text[end:]
+
+
+_LINE_PIECES = st.sampled_from(["a", "b c", "\n", "\r", "\r\n", "😀", "\u2028", "<r> ::= x", ""])
+_positions = st.builds(types.Position, line=st.integers(0, 12), character=st.integers(0, 12))
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    text=st.lists(_LINE_PIECES, max_size=30).map("".join),
+    edits=st.lists(
+        st.tuples(_positions, _positions, st.lists(_LINE_PIECES, max_size=4).map("".join)), max_size=8
+    ),
+    encoding=st.sampled_from([UTF8, UTF16, UTF32]),
+)
+def test_the_client_text_keeps_its_line_starts_through_any_edits(text, edits, encoding) -> None:
+    client = ClientText.of(text)
+    for start, end, inserted in edits:
+        range_ = types.Range(start=start, end=end)
+        text = _full_apply(text, range_, inserted, encoding)
+        client.apply(range_, inserted, encoding)
+        assert client.text == text
+        assert client.starts == raw_line_starts(text)
+        assert [client.line(i) for i in range(len(client.lines) + 1)] == [
+            *(
+                text[a:b].rstrip("\r\n")
+                for a, b in zip(client.starts, [*client.starts[1:], len(text)], strict=True)
+            ),
+            "",
+        ]
 
 
 @pytest.mark.parametrize(
@@ -120,7 +175,7 @@ def test_ranking_equals_a_full_sort(names: list[str], typed: str, line: int) -> 
     ],
 )
 def test_rule_names_are_what_the_scanner_reads_as_one(name: str, valid: bool) -> None:
-    assert navigation.is_rule_name(name) is valid
+    assert is_rule_name(name) is valid
 
 
 @pytest.mark.parametrize(

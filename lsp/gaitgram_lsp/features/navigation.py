@@ -10,8 +10,8 @@ from lsprotocol import types
 from pygls.exceptions import JsonRpcException
 
 from gaitgram.language.model import Annotation, Rule, RuleRef
-from gaitgram.language.parser import scanner
 from gaitgram.language.source import Span
+from gaitgram.language.syntax import is_rule_name
 from gaitgram_lsp.documents import Snapshot
 
 
@@ -119,19 +119,6 @@ class RenameRefused(JsonRpcException):
     """Sent to the client as an error response (LSP's RequestFailed), with the reason."""
 
     CODE = -32803
-
-
-def is_rule_name(name: str) -> bool:
-    """Whether the scanner reads ``<name>`` as one reference and ``<name> ::=`` as a rule head."""
-    if not name:
-        return False
-    reference = f"<{name}>"
-    head = scanner().structural.fullmatch(f"{reference} ::=")
-    return (
-        head is not None
-        and head.lastgroup == "RULE_HEAD"
-        and scanner().pieces(reference, 0, len(reference)) == [("NONTERMINAL", 0, len(reference))]
-    )
 
 
 def prepare_rename(snapshot: Snapshot, offset: int) -> types.PrepareRenamePlaceholder | None:

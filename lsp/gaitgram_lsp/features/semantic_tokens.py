@@ -11,7 +11,7 @@ from __future__ import annotations
 from lsprotocol import types
 
 from gaitgram.language.model import Interval, Name, RuleRef
-from gaitgram.language.parser import scanner
+from gaitgram.language.syntax import pieces as split_pieces
 from gaitgram_lsp.documents import Snapshot
 from gaitgram_lsp.positions import units
 
@@ -50,7 +50,7 @@ def tokens(snapshot: Snapshot) -> list[Token]:
 def _tokens(snapshot: Snapshot) -> list[Token]:
     grammar = snapshot.result.grammar
     text = grammar.source.text
-    pieces = scanner().pieces
+    pieces = split_pieces
     items = sorted(
         [(r.span.start, 0, r) for r in grammar.rules] + [(a.span.start, 1, a) for a in grammar.annotations],
         key=lambda item: item[0],
