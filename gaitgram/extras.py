@@ -23,6 +23,7 @@ EXTRA_OF_MODULE: dict[str, str] = {
     "ribs": "map-elites",
     "imageio": "video",
     "imageio_ffmpeg": "video",
+    "h5py": "dlc",
 }
 
 

@@ -104,3 +104,42 @@ def grammar(
         return
     write_or_exit(output, text)
     err.print(f"wrote {output}")
+
+
+@app.command("derive")
+def derive(
+    tracks: Annotated[
+        list[Path], typer.Argument(help="DeepLabCut tracks (.h5, .csv) of walking horses, or their folders.")
+    ],
+    output: Annotated[Path, typer.Option("--output", "-o", help="Write the summary (JSON) here.")],
+    fps: Annotated[float, typer.Option(min=1, help="Frames per second of the videos.")] = 15.0,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite an existing output.")] = False,
+) -> None:
+    """Measure real walks: footfall timing (stride frequency, duty factor, the phase at which each
+    hoof lands) and stride-normalised angle curves (fetlocks, limb protraction, head-neck), as
+    DeepLabCut side-view tracks allow; h5 files need pip install 'gaitgram[dlc]'."""
+    from gaitgram.extras import MissingExtra
+    from gaitgram.seed.dlc import DlcError, measure, read_clip, summarise
+
+    check_output(output, force=force)
+    files = sorted(
+        f
+        for path in tracks
+        for f in (path.iterdir() if path.is_dir() else [path])
+        if not path.is_dir() or f.suffix.lower() in (".h5", ".hdf5", ".csv")
+    )
+    if not files:
+        err.print(f"error: no .h5 or .csv tracks in {', '.join(map(str, tracks))}", style="bold red")
+        raise typer.Exit(2)
+    try:
+        summary = summarise(measure(read_clip(f, fps) for f in files))
+    except (DlcError, MissingExtra) as error:
+        err.print(f"error: {error}", style="bold red")
+        raise typer.Exit(2) from None
+    write_or_exit(output, jsonio.dumps(summary, indent=1) + "\n")
+    duty, offsets = summary["duty_factor"], summary["phase_after_left_hind"]
+    lands = ", ".join(f"{h} {o['median']:.2f}" for h, o in offsets.items())  # type: ignore[union-attr]
+    err.print(
+        f"{summary['clips']} clips, {summary['strides']} strides: {summary['stride_frequency_hz']:.2f} Hz, "
+        f"duty factor {duty['median']:.2f}; hooves land at {lands}; wrote {output}"  # type: ignore[index]
+    )
