@@ -30,6 +30,7 @@ import asyncio
 import random
 import statistics
 import time
+from collections.abc import Callable
 
 from benchmarks._jsonrpc import RawClient, server_command
 from benchmarks._timing import measure
@@ -58,6 +59,19 @@ def percentile(values: list[float], q: float) -> float:
     return ordered[min(len(ordered) - 1, round(q * (len(ordered) - 1)))]
 
 
+async def open_document(client: RawClient, text: str, analysed: Callable[[], bool]) -> None:
+    """Start the server, open ``text`` as version 1, and wait until its diagnostics are out."""
+    await client.start(*server_command())
+    await client.request("initialize", {"processId": None, "rootUri": None, "capabilities": {}})
+    client.notify("initialized", {})
+    client.notify(
+        "textDocument/didOpen",
+        {"textDocument": {"uri": URI, "languageId": "gaitgram", "version": 1, "text": text}},
+    )
+    while not analysed():
+        await asyncio.sleep(0.005)
+
+
 async def over_the_protocol(text: str) -> tuple[list[float], list[float], list[float], int]:
     """(completion at once ms, completion during analysis ms, diagnostics ms, diagnostics count)."""
     published: dict[int, tuple[float, int]] = {}
@@ -68,15 +82,7 @@ async def over_the_protocol(text: str) -> tuple[list[float], list[float], list[f
             published[params["version"]] = (arrived, len(params["diagnostics"]))
 
     client.on("textDocument/publishDiagnostics", on_diagnostics)
-    await client.start(*server_command())
-    await client.request("initialize", {"processId": None, "rootUri": None, "capabilities": {}})
-    client.notify("initialized", {})
-    client.notify(
-        "textDocument/didOpen",
-        {"textDocument": {"uri": URI, "languageId": "gaitgram", "version": 1, "text": text}},
-    )
-    while 1 not in published:
-        await asyncio.sleep(0.005)
+    await open_document(client, text, lambda: 1 in published)
 
     rng = random.Random(7)
     lines = text.split("\n")
@@ -172,15 +178,7 @@ async def completion_behind_a_burst(text: str, changes: int) -> tuple[float, flo
     published: set[int] = set()
     client = RawClient()
     client.on("textDocument/publishDiagnostics", lambda _, params: published.add(params.get("version")))
-    await client.start(*server_command())
-    await client.request("initialize", {"processId": None, "rootUri": None, "capabilities": {}})
-    client.notify("initialized", {})
-    client.notify(
-        "textDocument/didOpen",
-        {"textDocument": {"uri": URI, "languageId": "gaitgram", "version": 1, "text": text}},
-    )
-    while 1 not in published:
-        await asyncio.sleep(0.005)
+    await open_document(client, text, lambda: 1 in published)
     lines = text.split("\n")
     position = {"textDocument": {"uri": URI}, "position": {"line": 3, "character": 10}}
     start = time.perf_counter()
