@@ -9,6 +9,7 @@ import select
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 
@@ -113,3 +114,32 @@ def test_invalid_positions_get_invalid_params_and_the_server_goes_on(server: Raw
         assert method in error["message"]
     assert "error" not in found[good]
     assert found[good]["result"] is not None  # a hover on <b>: valid requests still answer
+
+
+def test_stdin_from_a_regular_file_is_served_too(tmp_path: Path) -> None:
+    """The server reads a pipe on its event loop; stdin that cannot be (a regular file) falls
+    back to pygls's reader, and is answered all the same."""
+    messages = [
+        {
+            "jsonrpc": "2.0",
+            "id": 0,
+            "method": "initialize",
+            "params": {"processId": None, "capabilities": {}},
+        },
+        {"jsonrpc": "2.0", "method": "initialized", "params": {}},
+        {"jsonrpc": "2.0", "id": 1, "method": "shutdown"},
+        {"jsonrpc": "2.0", "method": "exit"},
+    ]
+    framed = b"".join(b"Content-Length: %d\r\n\r\n%s" % (len(body), body) for body in map(_encode, messages))
+    requests = tmp_path / "requests.bin"
+    requests.write_bytes(framed)
+    with requests.open("rb") as stdin:
+        done = subprocess.run(
+            [sys.executable, "-m", "gaitgram_lsp"], stdin=stdin, capture_output=True, timeout=60
+        )
+    assert b'"id": 0' in done.stdout or b'"id":0' in done.stdout
+    assert b'"capabilities"' in done.stdout
+
+
+def _encode(message: dict) -> bytes:
+    return json.dumps(message).encode()
