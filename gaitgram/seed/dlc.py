@@ -127,6 +127,8 @@ class Kinematics:
 
 def read_clip(path: Path, fps: float = 15.0) -> Clip:
     """A DeepLabCut ``.h5`` (needs h5py: ``pip install 'gaitgram[dlc]'``) or ``.csv`` track."""
+    if not path.is_file():
+        raise DlcError(f"cannot read {path}: no such file")
     if path.suffix.lower() == ".csv":
         values = _read_csv(path)
     elif path.suffix.lower() in (".h5", ".hdf5"):

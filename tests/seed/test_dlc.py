@@ -95,6 +95,11 @@ def test_the_cli_writes_the_summary_and_refuses_bad_tracks(tmp_path: Path) -> No
     assert "not a DeepLabCut CSV" in refused.stderr
     assert "Traceback" not in refused.stderr
     assert not (tmp_path / "b.json").exists()
+    missing = subprocess.run(
+        [*run, str(tmp_path / "gone.h5"), "-o", str(tmp_path / "c.json")], capture_output=True, text=True
+    )
+    assert missing.returncode == 2
+    assert "no such file" in missing.stderr
 
 
 MIRROR = Path("/work/.mirror/NarimanNiknejad+DLC_Horse/repo")
