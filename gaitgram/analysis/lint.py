@@ -15,8 +15,9 @@ from gaitgram.analysis.cfg import RuleKind
 from gaitgram.analysis.facts import INFINITE, GrammarFacts, min_depths, occurrence_bounds
 from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backend_names, get_backend
 from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit, diagnostic
+from gaitgram.language.annotations import rule_references
 from gaitgram.language.edits import line_end, removal, union
-from gaitgram.language.model import Grammar, NonTerminal, Rule, RuleRef
+from gaitgram.language.model import Grammar, NonTerminal, Rule
 from gaitgram.language.source import Span
 
 Check = Callable[[Grammar, GrammarFacts], Iterator[Diagnostic]]
@@ -45,19 +46,17 @@ def undefined_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnosti
                     data={"name": ref.name},
                 )
     for annotation in grammar.annotations:
-        if annotation.name == "start":
-            for argument in annotation.positional():
-                if isinstance(argument.value, RuleRef) and argument.value.name not in defined:
-                    name = argument.value.name
-                    close = near(name)
-                    yield diagnostic(
-                        "GG201",
-                        f"the start rule <{name}> is not defined",
-                        argument.span,
-                        hint=f"did you mean <{close[0]}>?" if close else "name a rule this file defines",
-                        fixes=_undefined_fixes(grammar, name, argument.span, None, close),
-                        data={"name": name},
-                    )
+        for name, span in rule_references(annotation):
+            if name not in defined:
+                close = near(name)
+                yield diagnostic(
+                    "GG201",
+                    f"@{annotation.name} names <{name}>, which is not defined",
+                    span,
+                    hint=f"did you mean <{close[0]}>?" if close else "name a rule this file defines",
+                    fixes=_undefined_fixes(grammar, name, span, None, close),
+                    data={"name": name},
+                )
 
 
 def _undefined_fixes(
@@ -184,6 +183,7 @@ def unreachable_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnos
         for ref in rule.references():
             if ref.name in unreachable and ref.name != rule.name:
                 users.setdefault(ref.name, []).append(rule)
+    removals: dict[int, Span] = {}  # by id(rule): a chain of n rules is in n fixes
     for rule in grammar.rules_by_name.values():
         if rule.name in unreachable:
             yield diagnostic(
@@ -192,7 +192,7 @@ def unreachable_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnos
                 rule.name_span,
                 rule=rule.name,
                 hint=f"delete it, or use it from a rule that <{start}> reaches",
-                fixes=_unreachable_fixes(grammar, rule.name, unreachable, users, definitions),
+                fixes=_unreachable_fixes(grammar, rule.name, unreachable, users, definitions, removals),
                 data={"name": rule.name},
             )
 
@@ -207,6 +207,7 @@ def _unreachable_fixes(
     unreachable: set[str],
     users: dict[str, list[Rule]],
     definitions: dict[str, list[Rule]],
+    removals: dict[int, Span],
 ) -> list[Fix]:
     """Delete every definition of the rule, and of the unreachable rules that use it (so no
     reference is left undefined); none if a reachable rule's text uses it."""
@@ -221,7 +222,14 @@ def _unreachable_fixes(
             seen.add(user.name)
             removed.append(user.name)
     text = grammar.source.text
-    spans = union(_rule_removal(text, rule) for n in removed for rule in definitions[n])
+    spans = []
+    for rule in (rule for n in removed for rule in definitions[n]):
+        span = removals.get(id(rule))
+        if span is None:
+            span = removals[id(rule)] = _rule_removal(text, rule)
+        spans.append(span)
+    if len(spans) > 1:
+        spans = union(spans)
     others = len(removed) - 1
     title = f"Remove unreachable <{name}>"
     if others:
@@ -264,7 +272,7 @@ def joints(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
             )
         seen.setdefault(joint.joint, joint.rule)
 
-    backend_annotation = next((a for a in grammar.annotations if a.name == "backend"), None)
+    backend_annotation = grammar.declared.get("backend")
     if grammar.backend is None or backend_annotation is None:
         if grammar.joints:
             yield diagnostic(

@@ -1,8 +1,10 @@
 """The annotations gaitgram knows, and how their arguments are checked.
 
-Annotations share one syntax (``@name positional key=value ...``), so adding
-one means adding an :class:`AnnotationKind` to :data:`ANNOTATIONS`; the parser
-does not change. The language server reads this table for completion and hover.
+Annotations share one syntax (``@name positional key=value ...``), so adding one means
+adding an :class:`AnnotationKind` to :data:`ANNOTATIONS` and, if it sets anything, its
+reader in :mod:`gaitgram.language.meaning`; the parser does not change. What a parameter
+names (a rule, a backend, a joint) is its :attr:`Parameter.refers`: the linter, navigation,
+rename, completion and hover read that, never an annotation's name.
 """
 
 from __future__ import annotations
@@ -14,15 +16,19 @@ from enum import StrEnum
 from gaitgram.diagnostics import Diagnostic, Fix, TextEdit, diagnostic
 from gaitgram.language.model import Annotation, Argument, ArgumentValue, Interval, Name, RuleRef
 from gaitgram.language.ranges import NUMBER_LIMITS, number_problem, read_number
+from gaitgram.language.source import Span
 
 __all__ = [
     "ANNOTATIONS",
     "AnnotationKind",
     "CheckedAnnotation",
     "Parameter",
+    "Refers",
     "Target",
     "ValueType",
     "check_annotation",
+    "parameter_of",
+    "rule_references",
 ]
 
 
@@ -40,6 +46,16 @@ class ValueType(StrEnum):
     GENERATIONS = "generations"  # N (from N on), N..M, or N..
 
 
+class Refers(StrEnum):
+    """What a parameter's value names, so tools can check it, offer it, explain it and rename it."""
+
+    RULE = "rule"  # a rule of this grammar: checked defined, found by references, renamed with it
+    BACKEND = "backend"  # an installed fitness backend
+    JOINT = "joint"  # a joint of the grammar's backend
+    JOINT_LIMITS = "joint-limits"  # a joint's angle range (the backend's is offered)
+    JOINT_FREEDOM = "joint-freedom"  # a joint's freedom schedule (the paper's Table 3 is offered)
+
+
 @dataclass(frozen=True, slots=True)
 class Parameter:
     name: str
@@ -48,6 +64,7 @@ class Parameter:
     positional: bool = False
     required: bool = False
     choices: tuple[str, ...] = ()
+    refers: Refers | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -77,14 +94,32 @@ ANNOTATIONS: dict[str, AnnotationKind] = {
             Target.FILE,
             "The rule derivations start from (default: the first rule).",
             "@start <prog>",
-            (Parameter("rule", ValueType.RULE, "the start rule", positional=True, required=True),),
+            (
+                Parameter(
+                    "rule",
+                    ValueType.RULE,
+                    "the start rule",
+                    positional=True,
+                    required=True,
+                    refers=Refers.RULE,
+                ),
+            ),
         ),
         AnnotationKind(
             "backend",
             Target.FILE,
             "The fitness backend whose joints this grammar drives; @joint names are checked against it.",
             "@backend mujoco-horse",
-            (Parameter("backend", ValueType.NAME, "an installed backend", positional=True, required=True),),
+            (
+                Parameter(
+                    "backend",
+                    ValueType.NAME,
+                    "an installed backend",
+                    positional=True,
+                    required=True,
+                    refers=Refers.BACKEND,
+                ),
+            ),
         ),
         AnnotationKind(
             "units",
@@ -116,13 +151,26 @@ ANNOTATIONS: dict[str, AnnotationKind] = {
             "The next rule derives the angle curve of this backend joint.",
             "@joint elbow_fore limits=-35..60 free=11",
             (
-                Parameter("joint", ValueType.NAME, "a joint of the backend", positional=True, required=True),
-                Parameter("limits", ValueType.INTERVAL, "the angle range the curve should stay in, lo..hi"),
+                Parameter(
+                    "joint",
+                    ValueType.NAME,
+                    "a joint of the backend",
+                    positional=True,
+                    required=True,
+                    refers=Refers.JOINT,
+                ),
+                Parameter(
+                    "limits",
+                    ValueType.INTERVAL,
+                    "the angle range the curve should stay in, lo..hi",
+                    refers=Refers.JOINT_LIMITS,
+                ),
                 Parameter(
                     "free",
                     ValueType.GENERATIONS,
                     "generations in which the joint may move: N (from N on), N..M or N..; "
                     "before that it holds its neutral angle",
+                    refers=Refers.JOINT_FREEDOM,
                 ),
             ),
         ),
@@ -145,6 +193,31 @@ class CheckedAnnotation:
     annotation: Annotation
     kind: AnnotationKind | None
     values: dict[str, ArgumentValue]
+
+
+def parameter_of(annotation: Annotation, argument: Argument) -> Parameter | None:
+    """The parameter an argument of ``annotation`` gives, or None (unknown annotation or key,
+    one positional too many)."""
+    kind = ANNOTATIONS.get(annotation.name)
+    if kind is None:
+        return None
+    if argument.key is not None:
+        return kind.keywords.get(argument.key)
+    index = [a for a in annotation.arguments if a.key is None].index(argument)
+    return kind.positional[index] if index < len(kind.positional) else None
+
+
+def rule_references(annotation: Annotation) -> list[tuple[str, Span]]:
+    """The rules an annotation names (such as ``@start <prog>``), each with the span of its
+    ``<name>``: what the linter checks, and navigation finds and renames."""
+    found = []
+    for argument in annotation.arguments:
+        value = argument.value
+        if isinstance(value, RuleRef) and argument.raw.split("=", 1)[-1] == f"<{value.name}>":
+            parameter = parameter_of(annotation, argument)
+            if parameter is not None and parameter.refers is Refers.RULE:
+                found.append((value.name, Span(argument.span.end - len(value.name) - 2, argument.span.end)))
+    return found
 
 
 def check_annotation(annotation: Annotation, problems: list[Diagnostic]) -> CheckedAnnotation:

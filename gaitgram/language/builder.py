@@ -16,22 +16,22 @@ grammar must keep under gaitgram:
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 from lark import Token, Tree
 
 from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit, diagnostic
 from gaitgram.language.annotations import CheckedAnnotation, Target, check_annotation
-from gaitgram.language.edits import removal
+from gaitgram.language.edits import deletion_fix
 from gaitgram.language.escapes import EscapeError, unescape
 from gaitgram.language.lexer import Piece
+from gaitgram.language.meaning import read_defines, read_document, read_rule
 from gaitgram.language.model import (
     Alternative,
     Annotation,
     Argument,
     ArgumentValue,
-    FrequencyDecl,
     Grammar,
     Interval,
     JointDecl,
@@ -62,109 +62,52 @@ _TEXTUAL = frozenset({"TEXT", "WS"})
 SAFE, UNSAFE = Applicability.SAFE, Applicability.UNSAFE
 
 
-def deletion_fix(text: str, span: Span, title: str) -> Fix:
-    """Delete an item (an annotation, a rule) with its lines, if nothing else is on them."""
-    return Fix(title, (TextEdit(removal(text, span.start, span.end), ""),), UNSAFE, preferred=True)
+@dataclass(frozen=True, slots=True)
+class Parts:
+    """What a text reads as before the document-wide settings are decided: each rule with
+    its own annotations' meaning (``meaning.read_rule``). A part of a document reads the
+    same alone as in place, which is what the incremental parser keeps."""
+
+    rules: tuple[Rule, ...]
+    annotations: tuple[Annotation, ...]
+    joints: tuple[JointDecl, ...]
+    problems: tuple[Diagnostic, ...]
+    #: Its own ``@define`` values.
+    defines: dict[str, int]
 
 
-def build_grammar(tree: Tree, source: SourceText, defines: Mapping[str, int] | None = None) -> Grammar:
+def read_parts(tree: Tree, source: SourceText, defines: Mapping[str, int] | None = None) -> Parts:
+    """Read a parse tree; ``defines`` are the values ``GE_RANGE:name`` may take from outside it."""
     return _Builder(source, dict(defines or {})).build(tree)
 
 
-def assemble_grammar(
-    source: SourceText,
-    rules: list[Rule],
-    annotations: list[Annotation],
-    joints: list[JointDecl],
-    problems: list[Diagnostic],
-    file_level: list[CheckedAnnotation],
-    defines: dict[str, int],
-) -> Grammar:
-    """The grammar from its parts, with what only the whole document decides: the one
-    ``@start``/``@backend``/``@units`` (GG404 for repeats) and GG207 for no rules at all.
-    Shared with the language server's incremental parser, which reads parts separately."""
-    problems = list(problems)
+def build_grammar(tree: Tree, source: SourceText, defines: Mapping[str, int] | None = None) -> Grammar:
+    parts = read_parts(tree, source, defines)
+    return assemble_grammar(source, [parts], {**parts.defines, **(defines or {})})
 
-    def single(name: str) -> ArgumentValue | None:
-        found = [c for c in file_level if c.annotation.name == name]
-        for extra in found[1:]:
-            problems.append(
-                diagnostic(
-                    "GG404",
-                    f"@{name} is given more than once; the first one counts",
-                    extra.annotation.span,
-                    hint="delete the extra one",
-                    fixes=[deletion_fix(source.text, extra.annotation.span, f"Delete the extra @{name}")],
-                    data={"annotation": name},
-                )
-            )
-        return next(iter(found[0].values.values()), None) if found else None
 
-    start, backend, units = single("start"), single("backend"), single("units")
-    frequency = _frequency(source.text, rules, joints, problems)
-    if not rules and not problems:
-        problems.append(
-            diagnostic(
-                "GG207",
-                "no rules: a grammar needs at least one <name> ::= ... rule",
-                Span(0, 0),
-                hint="for example: <prog> ::= x | y",
-            )
-        )
+def assemble_grammar(source: SourceText, parts: Sequence[Parts], defines: dict[str, int]) -> Grammar:
+    """The grammar of a document read as ``parts`` (in order), finished with what only the
+    whole document decides (``meaning.read_document``)."""
+    rules = [rule for p in parts for rule in p.rules]
+    annotations = [a for p in parts for a in p.annotations]
+    joints = [j for p in parts for j in p.joints]
+    problems = [d for p in parts for d in p.problems]
+    settings = read_document(source.text, rules, annotations, joints, has_problems=bool(problems))
+    start = settings.values["start"]
     return Grammar(
         source=source,
         rules=tuple(rules),
         annotations=tuple(annotations),
-        start=start.name if isinstance(start, RuleRef) else (rules[0].name if rules else None),
-        backend=backend.text if isinstance(backend, Name) else None,
-        units=units.text if isinstance(units, Name) else "deg",
+        start=start if start is not None else (rules[0].name if rules else None),
+        backend=settings.values["backend"],
+        units=settings.values["units"] or "deg",
         joints=tuple(joints),
         defines=defines,
-        diagnostics=tuple(sorted(problems, key=lambda d: d.span)),
-        frequency=frequency,
+        diagnostics=tuple(sorted([*problems, *settings.problems], key=lambda d: d.span)),
+        frequency=settings.frequency,
+        declared=settings.declared,
     )
-
-
-def _frequency(
-    text: str, rules: list[Rule], joints: list[JointDecl], problems: list[Diagnostic]
-) -> FrequencyDecl | None:
-    """The grammar's one ``@frequency`` rule, if any: a second one, or one on a joint's rule, is
-    GG404. The annotation's arguments were checked with the others; read here, they are re-read
-    without reporting twice."""
-    found: FrequencyDecl | None = None
-    joint_rules = {j.rule for j in joints}
-    for rule in rules:
-        for annotation in (a for a in rule.annotations if a.name == "frequency"):
-            hint = "one rule derives the cycle's frequency; delete the extra @frequency"
-            if rule.name in joint_rules:
-                message = f"<{rule.name}> derives a joint's curve, so it cannot derive the frequency too"
-                hint = (
-                    "give the frequency a rule of its own, such as <frequency> ::= float[0.6..1.9 step 0.1]"
-                )
-            elif found is not None:
-                message = f"@frequency is given more than once; <{found.rule}> derives the frequency"
-            else:
-                limits = check_annotation(annotation, []).values.get("limits")
-                found = FrequencyDecl(
-                    rule=rule.name,
-                    limits=(float(limits.low), float(limits.high))  # type: ignore[arg-type]
-                    if isinstance(limits, Interval)
-                    else None,
-                    span=annotation.span,
-                )
-                continue
-            problems.append(
-                diagnostic(
-                    "GG404",
-                    message,
-                    annotation.span,
-                    rule=rule.name,
-                    hint=hint,
-                    fixes=[deletion_fix(text, annotation.span, "Delete this @frequency")],
-                    data={"annotation": "frequency"},
-                )
-            )
-    return found
 
 
 @dataclass
@@ -176,30 +119,34 @@ class _Builder:
 
     # ---- document ------------------------------------------------------------
 
-    def build(self, tree: Tree) -> Grammar:
+    def build(self, tree: Tree) -> Parts:
         self.problems.extend(unencodable_text(self.source))
         items = tree.children
         annotations = [
             self._annotation(item) for item in items if isinstance(item, Tree) and item.data == "annotation"
         ]
-        checked = {id(a): check_annotation(a, self.problems) for a in annotations}
-        file_level = [c for c in checked.values() if c.kind is not None and c.kind.target is Target.FILE]
-        self._collect_defines(file_level)
+        checked = [check_annotation(a, self.problems) for a in annotations]
+        own_defines = read_defines(c for c in checked if c.kind is not None and c.kind.target is Target.FILE)
+        self.defines = {**own_defines, **self.external_defines}
 
         rules: list[Rule] = []
+        joints: list[JointDecl] = []
         pending: list[CheckedAnnotation] = []
-        annotation_iter = iter(annotations)
+        annotation_iter = iter(checked)
         for item in items:
             if isinstance(item, Token):
                 self._stray(self._pieces(item))
             elif item.data == "rule":
                 rule = self._rule(item, [c.annotation for c in pending])
                 rules.append(rule)
+                joint, problems = read_rule(self.source.text, rule, pending)
+                self.problems.extend(problems)
+                if joint is not None:
+                    joints.append(joint)
                 pending = []
             else:
-                annotation = next(annotation_iter)
+                c = next(annotation_iter)
                 self._stray_after_annotation(item)
-                c = checked[id(annotation)]
                 if c.kind is None or c.kind.target is Target.RULE:
                     pending.append(c)
         for c in pending:
@@ -214,61 +161,7 @@ class _Builder:
                         data={"annotation": c.annotation.name},
                     )
                 )
-
-        return assemble_grammar(
-            self.source,
-            rules,
-            annotations,
-            list(self._joints(rules, checked)),
-            self.problems,
-            file_level,
-            {**self.defines, **self.external_defines},
-        )
-
-    def _collect_defines(self, checked: list[CheckedAnnotation]) -> None:
-        for c in checked:
-            if c.annotation.name == "define":
-                for key, value in c.values.items():
-                    if isinstance(value, int):
-                        self.defines[key] = value
-
-    def _joints(self, rules: list[Rule], checked: dict[int, CheckedAnnotation]) -> list[JointDecl]:
-        joints = []
-        for rule in rules:
-            joint_annotations = [a for a in rule.annotations if a.name == "joint"]
-            for extra in joint_annotations[1:]:
-                self.problems.append(
-                    diagnostic(
-                        "GG404",
-                        f"<{rule.name}> has more than one @joint",
-                        extra.span,
-                        rule=rule.name,
-                        hint="a rule derives one joint's curve; give each joint its own rule",
-                        fixes=[deletion_fix(self.source.text, extra.span, "Delete the extra @joint")],
-                        data={"annotation": "joint"},
-                    )
-                )
-            if not joint_annotations:
-                continue
-            annotation = joint_annotations[0]
-            values = checked[id(annotation)].values
-            joint = values.get("joint")
-            if not isinstance(joint, Name):
-                continue
-            limits = values.get("limits")
-            free = values.get("free")
-            joints.append(
-                JointDecl(
-                    joint=joint.text,
-                    rule=rule.name,
-                    limits=(limits.low, limits.high) if isinstance(limits, Interval) else None,  # type: ignore[arg-type]
-                    free=(int(free.low or 0), None if free.high is None else int(free.high))
-                    if isinstance(free, Interval)
-                    else None,
-                    span=annotation.span,
-                )
-            )
-        return joints
+        return Parts(tuple(rules), tuple(annotations), tuple(joints), tuple(self.problems), own_defines)
 
     def _pieces(self, token: Token) -> list[Piece]:
         return scanner().pieces(self.source.text, token.start_pos, token.end_pos)
@@ -615,7 +508,7 @@ class _Builder:
         if argument.isdigit():
             size = int(argument)
         elif argument.isidentifier():
-            defined = {**self.defines, **self.external_defines}
+            defined = self.defines
             if argument not in defined:
                 self.problems.append(
                     diagnostic(

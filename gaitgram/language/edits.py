@@ -10,8 +10,20 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from gaitgram.diagnostics import TextEdit
+from gaitgram.diagnostics import Applicability, Fix, TextEdit
 from gaitgram.language.source import Span
+
+__all__ = [
+    "EditConflict",
+    "apply_edits",
+    "conflicts",
+    "deletion_fix",
+    "line_end",
+    "normalized",
+    "removal",
+    "smallest_edit",
+    "union",
+]
 
 
 class EditConflict(ValueError):
@@ -86,3 +98,25 @@ def union(spans: Iterable[Span]) -> list[Span]:
         else:
             merged.append(span)
     return merged
+
+
+def deletion_fix(text: str, span: Span, title: str) -> Fix:
+    """Delete an item (an annotation, a rule) with its lines, if nothing else is on them."""
+    return Fix(title, (TextEdit(removal(text, span.start, span.end), ""),), Applicability.UNSAFE, True)
+
+
+def smallest_edit(old: str, new: str) -> TextEdit | None:
+    """One edit turning ``old`` into ``new`` that covers only the lines that differ (an editor
+    keeps the cursor and folds of the lines it does not touch); None if they are equal."""
+    if old == new:
+        return None
+    before, after = old.splitlines(keepends=True), new.splitlines(keepends=True)
+    head = 0
+    while head < min(len(before), len(after)) and before[head] == after[head]:
+        head += 1
+    tail = 0
+    while tail < min(len(before), len(after)) - head and before[-1 - tail] == after[-1 - tail]:
+        tail += 1
+    start = sum(len(line) for line in before[:head])
+    end = len(old) - sum(len(line) for line in before[len(before) - tail :])
+    return TextEdit(Span(start, end), "".join(after[head : len(after) - tail]))

@@ -19,10 +19,12 @@ read. A kept segment that moved has its spans shifted in place, which is cheap, 
 means a :class:`~gaitgram.language.model.Grammar` from an earlier call must not be read
 once a later call has started (the language server's ``documents.py`` guarantees it).
 
-What depends on the whole document is recomputed from the segments, as the builder does:
-``@start``/``@backend``/``@units`` (and GG404 for repeats), GG207, and the ``@define``
-values that ``GE_RANGE:name`` reads. ``tests/language/test_incremental.py`` checks that the
-result equals ``parse(text)``, spans and diagnostics included, over random edits.
+A segment keeps what the builder read of it (:class:`~gaitgram.language.builder.Parts`:
+rule-scope meaning only); what depends on the whole document is decided from all segments
+by the same ``assemble_grammar`` a full parse ends with (``meaning.read_document``), and the
+``@define`` values that ``GE_RANGE:name`` reads are re-checked here.
+``tests/language/test_incremental.py`` checks that the result equals ``parse(text)``, spans
+and diagnostics included, over random edits.
 """
 
 from __future__ import annotations
@@ -32,16 +34,16 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from gaitgram.collector import gc_paused
-from gaitgram.diagnostics import Diagnostic
 from gaitgram.language import parse
-from gaitgram.language.annotations import ANNOTATIONS, Target, check_annotation
-from gaitgram.language.builder import assemble_grammar, build_grammar
-from gaitgram.language.model import Annotation, Grammar, JointDecl, Rule
+from gaitgram.language.annotations import check_annotation
+from gaitgram.language.builder import Parts, assemble_grammar, read_parts
+from gaitgram.language.meaning import read_defines
+from gaitgram.language.model import Grammar
 from gaitgram.language.parser import parse_tree
 from gaitgram.language.source import SourceText, Span
 from gaitgram.language.syntax import item_lines
 
-__all__ = ["FULL_PARSE_AT", "IncrementalParser", "segment_starts"]
+__all__ = ["FULL_PARSE_AT", "IncrementalMismatch", "IncrementalParser", "segment_starts"]
 
 #: With more new segments than this (and than a quarter of them), one full parse is cheaper.
 FULL_PARSE_AT = 64
@@ -65,11 +67,7 @@ class Segment:
 
     text: str
     base: int
-    rules: tuple[Rule, ...]
-    annotations: tuple[Annotation, ...]
-    joints: tuple[JointDecl, ...]
-    problems: tuple[Diagnostic, ...]  # the builder's, minus the document-wide ones
-    defines: dict[str, int]  # its own @define values
+    parts: Parts
     #: For a segment with ``GE_RANGE:``: the document's defines it was read with.
     read_with: tuple[tuple[str, int], ...] | None = None
     _spans: list[Span] | None = field(default=None, repr=False)
@@ -84,107 +82,72 @@ class Segment:
         if delta == 0:
             return
         if self._spans is None:
-            self._spans = _unique_spans(self)
+            self._spans = _unique_spans(self.parts)
         for span in self._spans:
             span.start += delta
             span.end += delta
         self.base = base
 
 
-def _unique_spans(segment: Segment) -> list[Span]:
+def _unique_spans(parts: Parts) -> list[Span]:
     seen: dict[int, Span] = {}
 
     def add(span: Span) -> None:
         seen[id(span)] = span
 
-    for rule in segment.rules:
+    for rule in parts.rules:
         add(rule.span)
         add(rule.name_span)
         for alternative in rule.alternatives:
             add(alternative.span)
             for symbol in alternative.symbols:
                 add(symbol.span)
-    for annotation in segment.annotations:
+    for annotation in parts.annotations:
         add(annotation.span)
         add(annotation.name_span)
         for argument in annotation.arguments:
             add(argument.span)
-    for joint in segment.joints:
+    for joint in parts.joints:
         add(joint.span)
-    for problem in segment.problems:
+    for problem in parts.problems:
         for span in problem.spans():  # its fixes' edits too
             add(span)
     return list(seen.values())
-
-
-def _is_document_wide(problem: Diagnostic) -> bool:
-    """What ``assemble_grammar`` decides for the whole document: GG207, and GG404 for a repeated
-    ``@start``/``@backend``/``@units`` (no rule) or any ``@frequency`` (it depends on every
-    segment's joints). A repeated ``@joint`` is a segment's own GG404."""
-    if problem.code.code == "GG207":
-        return True
-    return problem.code.code == "GG404" and (
-        problem.rule is None or (problem.data or {}).get("annotation") == "frequency"
-    )
-
-
-def _own_defines(annotations: tuple[Annotation, ...]) -> dict[str, int]:
-    defines: dict[str, int] = {}
-    for annotation in annotations:
-        if annotation.name == "define":
-            for key, value in check_annotation(annotation, []).values.items():
-                if isinstance(value, int):
-                    defines[key] = value
-    return defines
 
 
 def _read_segment(text: str, start: int, end: int, defines: Mapping[str, int]) -> Segment:
     """Read ``text[start:end]`` alone. A one-line comment pads it to its place, so its spans
     come out absolute without a pass to shift them."""
     padded = ("#" * (start - 1) + "\n" if start else "") + text[start:end]
-    grammar = build_grammar(parse_tree(padded), SourceText(padded), defines)
-    segment = Segment(
-        text=text[start:end],
-        base=start,
-        rules=grammar.rules,
-        annotations=grammar.annotations,
-        joints=grammar.joints,
-        problems=tuple(d for d in grammar.diagnostics if not _is_document_wide(d)),
-        defines=_own_defines(grammar.annotations),
-    )
+    segment = Segment(text[start:end], start, read_parts(parse_tree(padded), SourceText(padded), defines))
     if segment.needs_defines:
         segment.read_with = tuple(sorted(defines.items()))
     return segment
 
 
-def _split_grammar(grammar: Grammar, starts: list[int], ends: list[int]) -> list[Segment]:
-    """Cut a full parse into segments (every span lies inside the segment it belongs to)."""
-    text = grammar.source.text
+def _split(
+    parts: Parts, text: str, starts: list[int], ends: list[int], defines: dict[str, int]
+) -> list[Segment]:
+    """Cut a whole document's parts into segments (every span lies inside its segment)."""
     buckets: list[tuple[list, list, list, list]] = [([], [], [], []) for _ in starts]
 
     def where(offset: int) -> int:
         return max(0, bisect_right(starts, offset) - 1)
 
-    for rule in grammar.rules:
+    for rule in parts.rules:
         buckets[where(rule.name_span.start)][0].append(rule)
-    for annotation in grammar.annotations:
+    for annotation in parts.annotations:
         buckets[where(annotation.span.start)][1].append(annotation)
-    for joint in grammar.joints:
+    for joint in parts.joints:
         buckets[where(joint.span.start)][2].append(joint)
-    for problem in grammar.diagnostics:
-        if not _is_document_wide(problem):
-            buckets[where(problem.span.start)][3].append(problem)
-    read_with = tuple(sorted(grammar.defines.items()))
+    for problem in parts.problems:
+        buckets[where(problem.span.start)][3].append(problem)
+    read_with = tuple(sorted(defines.items()))
     segments = []
     for start, end, (rules, notes, joints, problems) in zip(starts, ends, buckets, strict=True):
+        own = read_defines(check_annotation(a, []) for a in notes)
         segment = Segment(
-            text=text[start:end],
-            base=start,
-            rules=tuple(rules),
-            annotations=tuple(notes),
-            joints=tuple(joints),
-            problems=tuple(problems),
-            defines=_own_defines(tuple(notes)),
+            text[start:end], start, Parts(tuple(rules), tuple(notes), tuple(joints), tuple(problems), own)
         )
         if segment.needs_defines:
             segment.read_with = read_with
@@ -192,15 +155,41 @@ def _split_grammar(grammar: Grammar, starts: list[int], ends: list[int]) -> list
     return segments
 
 
+class IncrementalMismatch(AssertionError):
+    """An incremental parse gave another grammar than a full parse: a bug in this module."""
+
+
+#: What ``verify`` compares: every part of a grammar.
+_COMPARED = (
+    "rules",
+    "annotations",
+    "joints",
+    "frequency",
+    "diagnostics",
+    "start",
+    "backend",
+    "units",
+    "defines",
+    "declared",
+)
+
+
 class IncrementalParser:
     """``parse`` for one document that changes a little at a time. Not thread-safe: one
     document's parses run one after another."""
 
     def __init__(
-        self, defines: Mapping[str, int] | None = None, *, full_parse_at: int = FULL_PARSE_AT
+        self,
+        defines: Mapping[str, int] | None = None,
+        *,
+        full_parse_at: int = FULL_PARSE_AT,
+        verify: bool = False,
     ) -> None:
         self.external_defines = dict(defines or {})
         self.full_parse_at = full_parse_at
+        #: Compare every result with a full parse and raise ``IncrementalMismatch`` if they
+        #: differ (slow: for tests and bug hunts).
+        self.verify = verify
         self._kept: dict[str, list[Segment]] = {}
         self._defines: dict[str, int] = dict(self.external_defines)
         #: How the last call went: "full", or how many segments it read.
@@ -213,8 +202,16 @@ class IncrementalParser:
 
     def parse(self, text: str | SourceText) -> Grammar:
         """The same grammar as ``parse(text)``; the previous result's spans may move."""
+        source = text if isinstance(text, SourceText) else SourceText(text)
         with gc_paused():
-            return self._parse(text if isinstance(text, SourceText) else SourceText(text))
+            grammar = self._parse(source)
+        if self.verify:
+            full = parse(source, defines=self.external_defines)
+            for part in _COMPARED:
+                if getattr(grammar, part) != getattr(full, part):
+                    self.reset()
+                    raise IncrementalMismatch(f"incremental parse differs from a full parse in {part}")
+        return grammar
 
     def _parse(self, source: SourceText) -> Grammar:
         text = source.text
@@ -232,10 +229,11 @@ class IncrementalParser:
                 missing.append(i)
 
         if len(missing) > max(self.full_parse_at, len(starts) // 4):
-            grammar = parse(source, defines=self.external_defines)
-            self._keep(_split_grammar(grammar, starts, ends), grammar.defines)
+            parts = read_parts(parse_tree(text), source, self.external_defines)
+            defines = {**parts.defines, **self.external_defines}
+            self._keep(_split(parts, text, starts, ends, defines), defines)
             self.last_reads = "full"
-            return grammar
+            return assemble_grammar(source, [parts], defines)
 
         for i in missing:
             segments[i] = _read_segment(text, starts[i], ends[i], self._defines)
@@ -244,7 +242,7 @@ class IncrementalParser:
             segment.move_to(start)
         defines: dict[str, int] = {}
         for segment in ready:
-            defines.update(segment.defines)
+            defines.update(segment.parts.defines)
         defines.update(self.external_defines)
         key = tuple(sorted(defines.items()))
         reread = 0
@@ -254,7 +252,7 @@ class IncrementalParser:
                 reread += 1
         self._keep(ready, defines)
         self.last_reads = len(missing) + reread
-        return _assemble(source, ready, defines)
+        return assemble_grammar(source, [segment.parts for segment in ready], defines)
 
     def _keep(self, segments: list[Segment], defines: dict[str, int]) -> None:
         kept: dict[str, list[Segment]] = {}
@@ -262,22 +260,3 @@ class IncrementalParser:
             kept.setdefault(segment.text, []).append(segment)
         self._kept = kept
         self._defines = defines
-
-
-def _assemble(source: SourceText, segments: list[Segment], defines: dict[str, int]) -> Grammar:
-    """The document's grammar from its segments, finished as ``build_grammar`` finishes one."""
-    rules: list[Rule] = []
-    annotations: list[Annotation] = []
-    joints: list[JointDecl] = []
-    problems: list[Diagnostic] = []
-    for segment in segments:
-        rules.extend(segment.rules)
-        annotations.extend(segment.annotations)
-        joints.extend(segment.joints)
-        problems.extend(segment.problems)
-    file_level = []
-    for annotation in annotations:
-        kind = ANNOTATIONS.get(annotation.name)
-        if kind is not None and kind.target is Target.FILE:
-            file_level.append(check_annotation(annotation, []))
-    return assemble_grammar(source, rules, annotations, joints, problems, file_level, defines)

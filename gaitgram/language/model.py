@@ -8,6 +8,7 @@ it. Rule names are stored without their angle brackets.
 
 from __future__ import annotations
 
+from bisect import bisect_right
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from enum import StrEnum
@@ -255,6 +256,9 @@ class Grammar:
     diagnostics: tuple[Diagnostic, ...] = ()
     #: The rule that derives the cycle's frequency, if the grammar evolves it.
     frequency: FrequencyDecl | None = None
+    #: The annotation that counts for each file setting written (``"start"``, ``"backend"``,
+    #: ``"units"``): where ``start``, ``backend`` and ``units`` come from.
+    declared: dict[str, Annotation] = field(default_factory=dict)
 
     @cached_property
     def rules_by_name(self) -> dict[str, Rule]:
@@ -266,6 +270,26 @@ class Grammar:
 
     def rule(self, name: str) -> Rule | None:
         return self.rules_by_name.get(name)
+
+    @cached_property
+    def rule_starts(self) -> list[int]:
+        """Each rule's start offset, in order: to find the rule at an offset by bisection."""
+        return [rule.span.start for rule in self.rules]
+
+    def rule_at(self, offset: int) -> Rule | None:
+        """The rule whose text (head to last alternative) contains ``offset``."""
+        index = bisect_right(self.rule_starts, offset) - 1
+        if index >= 0 and offset in self.rules[index].span:
+            return self.rules[index]
+        return None
+
+    def annotation_at(self, offset: int) -> Annotation | None:
+        for annotation in self.annotations:
+            if offset in annotation.span:
+                return annotation
+            if annotation.span.start > offset:
+                break
+        return None
 
     @cached_property
     def joints_by_rule(self) -> dict[str, JointDecl]:

@@ -10,6 +10,7 @@ import os
 import re
 import stat
 from bisect import bisect_right
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import BinaryIO
@@ -96,6 +97,16 @@ class SourceText:
         offset = max(0, min(offset, len(self.text)))
         line = bisect_right(self.line_starts, offset) - 1
         return Location(line + 1, offset - self.line_starts[line] + 1)
+
+    def line_indices(self, offsets: Iterable[int]) -> Iterator[int]:
+        """The 0-based line of each of ascending ``offsets``, walking the lines once (for the
+        thousands of rule starts of a large grammar)."""
+        starts = self.line_starts
+        line, last = 0, len(starts) - 1
+        for offset in offsets:
+            if line < last and offset >= starts[line + 1]:
+                line = bisect_right(starts, offset, line) - 1
+            yield line
 
     def offset(self, line: int, column: int) -> int:
         """The offset of a 1-based line and column, clamped to the text."""

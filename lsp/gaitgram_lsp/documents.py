@@ -28,12 +28,12 @@ from collections.abc import Callable, Iterable, Mapping
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from functools import cached_property
-from pathlib import Path
 
 from lsprotocol import types
 
 from gaitgram.analysis import CheckResult, check
 from gaitgram.collector import gc_paused
+from gaitgram.ide.workspace import WorkspaceGrammars, grammar_files
 from gaitgram.language import parse
 from gaitgram.language.incremental import IncrementalParser
 from gaitgram.language.source import SourceText
@@ -90,11 +90,6 @@ class Snapshot:
     def text(self) -> str:
         return self.result.grammar.source.text
 
-    @cached_property
-    def rule_starts(self) -> list[int]:
-        """Start offsets of the rules, in order: to find the rule at an offset by bisection."""
-        return [rule.span.start for rule in self.result.grammar.rules]
-
 
 def analyse(
     text: str,
@@ -117,8 +112,6 @@ def analyse(
             log.exception("incremental parse failed; parsing the whole document")
             parser.reset()
             grammar = parse(source, defines=parser.external_defines)
-        if os.environ.get(VERIFY_ENV):
-            _verify(grammar, source, parser.external_defines)
     result = check(grammar)
     positions = PositionIndex(source, encoding)
     return Snapshot(
@@ -129,24 +122,6 @@ def analyse(
         positions=positions,
         wire_diagnostics=wire_diagnostics(result, positions),
     )
-
-
-def _verify(grammar: object, source: SourceText, defines: Mapping[str, int]) -> None:
-    full = parse(source, defines=defines)
-    parts = (
-        "rules",
-        "annotations",
-        "joints",
-        "frequency",
-        "diagnostics",
-        "start",
-        "backend",
-        "units",
-        "defines",
-    )
-    for part in parts:
-        if getattr(grammar, part) != getattr(full, part):
-            raise AssertionError(f"incremental parse differs from a full parse in {part}")
 
 
 @dataclass(eq=False)
@@ -203,7 +178,8 @@ class Documents:
 
     def open(self, uri: str, text: str, version: int | None) -> None:
         self.close(uri)
-        document = Document(uri, ClientText.of(text), version, parser=IncrementalParser(self.defines))
+        parser = IncrementalParser(self.defines, verify=bool(os.environ.get(VERIFY_ENV)))
+        document = Document(uri, ClientText.of(text), version, parser=parser)
         self._open[uri] = document
         self._start(document)  # nothing to debounce: the user is looking at it now
 
@@ -350,52 +326,14 @@ class Documents:
 
 # ---- grammars on disk, for workspace symbols ------------------------------------------------
 
-GRAMMAR_SUFFIXES = (".gg", ".bnf", ".pybnf")
-_SKIP_DIRECTORIES = {".git", ".hg", ".venv", "venv", "node_modules", "__pycache__", ".tox", "build", "dist"}
-#: A workspace is searched for at most this many grammar files.
-MAX_WORKSPACE_FILES = 2_000
-_on_disk: dict[Path, tuple[tuple[float, int], Snapshot]] = {}
+_on_disk = WorkspaceGrammars()
 
 
 def workspace_grammars(roots: Iterable[str], skip: set[str]) -> list[Snapshot]:
-    """Snapshots of the grammar files under ``roots`` whose URIs are not in ``skip`` (the
-    open ones); each file is read again only when it changes on disk."""
-    found: list[Snapshot] = []
-    seen = 0
-    for root in roots:
-        for directory, subdirectories, files in os.walk(root):
-            subdirectories[:] = [d for d in subdirectories if d not in _SKIP_DIRECTORIES]
-            for name in files:
-                if not name.endswith(GRAMMAR_SUFFIXES):
-                    continue
-                seen += 1
-                if seen > MAX_WORKSPACE_FILES:
-                    return found
-                path = Path(directory, name)
-                uri = path.as_uri()
-                if uri in skip:
-                    continue
-                snapshot = _read(path, uri)
-                if snapshot is not None:
-                    found.append(snapshot)
+    """Snapshots of the grammar files under ``roots`` whose URIs are not in ``skip`` (the open ones)."""
+    found = []
+    for path in grammar_files(roots):
+        uri = path.as_uri()
+        if uri not in skip and (result := _on_disk.get(path)) is not None:
+            found.append(Snapshot(uri, None, 0, result, PositionIndex(result.grammar.source), []))
     return found
-
-
-def _read(path: Path, uri: str) -> Snapshot | None:
-    from gaitgram.language.source import SourceError, read_source
-
-    try:
-        stat = path.stat()
-    except OSError:
-        return None
-    key = (stat.st_mtime, stat.st_size)
-    cached = _on_disk.get(path)
-    if cached is not None and cached[0] == key:
-        return cached[1]
-    try:
-        source = read_source(path)
-    except SourceError:
-        return None
-    snapshot = analyse(source.text, uri=uri)
-    _on_disk[path] = (key, snapshot)
-    return snapshot

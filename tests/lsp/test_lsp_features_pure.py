@@ -13,6 +13,9 @@ from hypothesis import strategies as st
 from lsprotocol import types
 from pygls.protocol import default_converter
 
+from gaitgram.ide import completion as ide_completion
+from gaitgram.ide.completion import Where, context
+from gaitgram.ide.tokens import tokens
 from gaitgram.language.source import SourceText, Span
 from gaitgram.language.syntax import is_rule_name
 from gaitgram_lsp.documents import Documents, analyse
@@ -24,7 +27,6 @@ from gaitgram_lsp.features import (
     navigation,
     semantic_tokens,
 )
-from gaitgram_lsp.features.completion import Where, context
 from gaitgram_lsp.features.diagnostics import SEVERITY
 from gaitgram_lsp.positions import (
     UTF8,
@@ -150,16 +152,16 @@ def test_completion_model_and_ranking() -> None:
 )
 def test_ranking_equals_a_full_sort(names: list[str], typed: str, line: int) -> None:
     """The two-pointer ranking equals sorting every match, however many there are."""
-    model = completion.CompletionModel(names=tuple(names), lines=tuple(range(len(names))))
+    model = ide_completion.CompletionModel(names=tuple(names), lines=tuple(range(len(names))))
     wanted = typed.lower()
     scored = sorted(
         (0 if n.lower() == wanted else 1 if n.lower().startswith(wanted) else 2, abs(i - line), i)
         for i, n in enumerate(names)
         if wanted in n.lower()
     )
-    ranked, more = completion._rank(model, typed, line)
-    assert [entry.line for entry in ranked] == [i for *_, i in scored[: completion.MAX_ITEMS]]
-    assert more == (len(scored) > completion.MAX_ITEMS)
+    ranked, more = ide_completion._rank(model, typed, line)
+    assert [entry.line for entry in ranked] == [i for *_, i in scored[: ide_completion.MAX_ITEMS]]
+    assert more == (len(scored) > ide_completion.MAX_ITEMS)
 
 
 @pytest.mark.parametrize(
@@ -205,8 +207,8 @@ def test_symbols_tokens_hints_and_formatting_of_a_snapshot() -> None:
         "<b>",
     ]
     found = [
-        (snapshot.text[a : a + n], semantic_tokens.TOKEN_TYPES[t])
-        for a, n, t, _ in semantic_tokens.tokens(snapshot)
+        (snapshot.text[t.start : t.start + t.length], semantic_tokens.TOKEN_TYPES[t.type])
+        for t in tokens(snapshot.result.grammar)
     ]
     assert found == [
         ("@start", "decorator"),

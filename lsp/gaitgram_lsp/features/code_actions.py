@@ -17,7 +17,6 @@ from gaitgram.analysis.rewrites import rewrites
 from gaitgram.diagnostics import Diagnostic, Fix
 from gaitgram_lsp.documents import Snapshot
 from gaitgram_lsp.features.diagnostics import to_lsp, wire_diagnostic
-from gaitgram_lsp.features.navigation import rule_at
 
 QUICK_FIX = types.CodeActionKind.QuickFix
 REWRITE = types.CodeActionKind.RefactorRewrite
@@ -42,7 +41,7 @@ def code_actions(
             if combined is not None:
                 actions.append(_action(snapshot, combined, QUICK_FIX))
     if _wanted(REWRITE, only):
-        rule = rule_at(snapshot, start)
+        rule = snapshot.result.grammar.rule_at(start)
         if rule is not None:
             actions += [_action(snapshot, fix, REWRITE) for fix in rewrites(snapshot.source, rule)]
     return actions
