@@ -14,7 +14,7 @@ from enum import IntEnum
 from gaitgram.language.model import Argument, Grammar, Interval, Name, RuleRef
 from gaitgram.language.syntax import pieces as split_pieces
 
-__all__ = ["Token", "TokenType", "tokens"]
+__all__ = ["Token", "TokenType", "overlapping", "tokens"]
 
 
 class TokenType(IntEnum):
@@ -118,3 +118,8 @@ def _argument_tokens(argument: Argument) -> list[Token]:
         token_type = TokenType.STRING
     found.append(Token(start, end - start, token_type))
     return found
+
+
+def overlapping(found: list[Token], start: int, end: int) -> list[Token]:
+    """The tokens that touch offsets ``start`` to ``end`` (what a visible range needs)."""
+    return [t for t in found if t.start + t.length >= start and t.start <= end]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from lsprotocol import types
 
-from gaitgram.ide.tokens import Token, TokenType, tokens
+from gaitgram.ide.tokens import Token, TokenType, overlapping, tokens
 from gaitgram_lsp.documents import Snapshot
 from gaitgram_lsp.positions import units
 
@@ -52,4 +52,4 @@ def full(snapshot: Snapshot) -> types.SemanticTokens:
 
 
 def in_range(snapshot: Snapshot, start: int, end: int) -> types.SemanticTokens:
-    return encode(snapshot, [t for t in _tokens(snapshot) if t.start + t.length >= start and t.start <= end])
+    return encode(snapshot, overlapping(_tokens(snapshot), start, end))
