@@ -304,7 +304,9 @@ def joints(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
             "GG501",
             f"no backend named {grammar.backend!r} is installed",
             where,
-            hint=f"installed backends: {', '.join(installed) or 'none'}",
+            hint=f"did you mean {close[0]}?"
+            if close
+            else f"installed backends: {', '.join(installed) or 'none'}",
             fixes=[
                 Fix(f"Replace with {n}", (TextEdit(where, n),), Applicability.UNSAFE, preferred=True)
                 for n in close

@@ -239,3 +239,14 @@ def test_check_fix_never_makes_a_text_worse_and_leaves_clean_ones_alone(text: st
     if not before.diagnostics or not outcome.applied:
         assert outcome.text == before.grammar.source.text
         assert not outcome.changed
+
+
+def test_a_misspelt_backend_gets_the_nearest_name_as_hint() -> None:
+    (near,) = [
+        d for d in check(parse("@backend mujoco-hors\n<a> ::= x\n")).diagnostics if d.code.code == "GG501"
+    ]
+    (far,) = [d for d in check(parse("@backend zzz\n<a> ::= x\n")).diagnostics if d.code.code == "GG501"]
+    assert near.hint == "did you mean mujoco-horse?"
+    assert far.hint is not None
+    assert far.hint.startswith("installed backends:")
+    assert "mujoco-horse" in far.hint
