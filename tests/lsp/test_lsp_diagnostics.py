@@ -130,3 +130,16 @@ async def test_pull_diagnostics_and_result_ids(pulling: Client) -> None:
     assert seen(changed.items) == expected(fixed)
     await asyncio.sleep(0.2)
     assert not [p for p in pulling.published if p.uri == uri]  # a pulling client is not also pushed to
+
+
+async def test_a_lone_surrogate_sent_as_a_json_escape_is_gg109(client: Client) -> None:
+    """JSON may carry ``\\ud800`` alone, which no file can hold: the server reports it where it
+    is (one UTF-16 unit) instead of failing to encode its answer."""
+    uri = new_uri()
+    text = "<a> ::= '\ud800' | b\n"
+    open_document(client, uri, text)
+    found = await published(client, uri, 1)
+    assert seen(found) == expected(text)
+    (lone,) = [d for d in found if d.code == "GG109"]
+    assert lone.range == span(at(0, 9), at(0, 10))
+    assert lone.severity == types.DiagnosticSeverity.Error
