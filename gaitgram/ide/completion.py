@@ -275,12 +275,11 @@ def complete(
     found = context(line_text[:column], line_text[column:])
     items: list[Completion] = []
     incomplete = False
-    quiet = (trigger == " " and found.where not in (Where.ARGUMENT, Where.KEYWORD)) or (
+    if (trigger == " " and found.where not in (Where.ARGUMENT, Where.KEYWORD)) or (
         trigger == "@" and found.where is not Where.ANNOTATION
-    )
-    if quiet:  # a space in a rule is not a request; nor is an @ that starts no annotation
-        pass
-    elif found.where is Where.ANNOTATION:
+    ):  # a space in a rule is not a request; nor is an @ that starts no annotation
+        return Completions(items, incomplete, found.start, found.end)
+    if found.where is Where.ANNOTATION:
         items = [
             Completion(kind.name, CompletionKind.ANNOTATION, kind.name, kind.summary, annotation_doc(kind))
             for kind in ANNOTATIONS.values()
