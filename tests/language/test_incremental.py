@@ -4,18 +4,15 @@ new segments alone, or one full parse cut into segments)."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, rule
 
+from conftest import GRAMMARS
 from gaitgram.analysis import check
 from gaitgram.language import parse
 from gaitgram.language.incremental import IncrementalParser, segment_starts
-
-GRAMMARS = Path(__file__).resolve().parents[2] / "grammars"
 
 PIECES = [
     "<a>",

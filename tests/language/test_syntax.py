@@ -9,10 +9,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from conftest import GRAMMARS
 from gaitgram.language import parse
 from gaitgram.language.syntax import is_rule_name, tokenize
 
-GRAMMARS = Path(__file__).resolve().parents[2] / "grammars"
 FRAGMENTS = [
     "<a>",
     " ::= ",
