@@ -12,7 +12,7 @@ read a name back out of a message.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from enum import StrEnum
 from typing import TYPE_CHECKING
@@ -290,12 +290,13 @@ class Diagnostic:
     def is_error(self) -> bool:
         return self.level is Severity.ERROR
 
-    def spans(self) -> Iterator[Span]:
-        """Every span it holds, its fixes' included (the language server shifts them after edits)."""
-        yield self.span
-        for fix in self.fixes:
-            for edit in fix.edits:
-                yield edit.span
+    def moved(self, delta: int) -> Diagnostic:
+        """The same problem ``delta`` characters further on, its fixes' edits included."""
+        fixes = tuple(
+            replace(fix, edits=tuple(TextEdit(e.span.shifted(delta), e.text) for e in fix.edits))
+            for fix in self.fixes
+        )
+        return replace(self, span=self.span.shifted(delta), fixes=fixes)
 
 
 def diagnostic(

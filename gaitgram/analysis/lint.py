@@ -36,13 +36,14 @@ def undefined_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnosti
         for ref in rule.references():
             if ref.name not in defined:
                 close = near(ref.name)
+                span = rule.span_of(ref)
                 yield diagnostic(
                     "GG201",
                     f"<{ref.name}> is not defined",
-                    ref.span,
+                    span,
                     rule=rule.name,
                     hint=f"did you mean <{close[0]}>?" if close else f"define it: <{ref.name}> ::= ...",
-                    fixes=_undefined_fixes(grammar, ref.name, ref.span, rule, close),
+                    fixes=_undefined_fixes(grammar, ref.name, span, rule, close),
                     data={"name": ref.name},
                 )
     for annotation in grammar.annotations:
@@ -107,7 +108,7 @@ def _duplicate_fixes(grammar: Grammar, original: Rule, duplicate: Rule) -> list[
     # Text added after an unterminated string would be part of it.
     open_string = any(d.code.code == "GG102" and d.span.end == original.span.end for d in grammar.diagnostics)
     if duplicate.alternatives and not duplicate.annotations and not open_string:
-        alternatives = text[duplicate.alternatives[0].span.start : duplicate.span.end]
+        alternatives = text[duplicate.span_of(duplicate.alternatives[0]).start : duplicate.span.end]
         joined = f" | {alternatives}" if original.alternatives else f" {alternatives}"
         end = original.span.end
         while end > original.span.start and text[end - 1] in " \t":  # a rule's text keeps its trailing spaces

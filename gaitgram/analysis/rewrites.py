@@ -59,8 +59,9 @@ def collapses(source: SourceText, rule: Rule) -> list[Fix]:
     found = []
     for i, j in _runs(rule):
         alternatives = rule.alternatives[i:j]
-        span = Span(alternatives[0].span.start, alternatives[-1].span.end)
-        between = [text[a.span.end : b.span.start] for a, b in pairwise(alternatives)]
+        spans = [rule.span_of(a) for a in alternatives]
+        span = Span(spans[0].start, spans[-1].end)
+        between = [text[a.end : b.start] for a, b in pairwise(spans)]
         if any(gap.strip() != "|" for gap in between):  # comments in between would be lost
             continue
         spec = range_for([_number_text(a) or "" for a in alternatives])
@@ -77,7 +78,7 @@ def expansions(rule: Rule) -> list[Fix]:
         spec = alternative.range_values
         if spec is not None and spec.size <= MAX_EXPANDED:
             title = f"Expand {spec.text} into its {spec.size} values"
-            values = TextEdit(alternative.span, " | ".join(spec.values))
+            values = TextEdit(rule.span_of(alternative), " | ".join(spec.values))
             found.append(Fix(title, (values,), Applicability.SAFE))
     return found
 

@@ -30,6 +30,7 @@ from gaitgram.backends.catalogue import Joint
 from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backend_names, get_backend
 from gaitgram.ide.hover import annotation_doc
 from gaitgram.language.annotations import ANNOTATIONS, AnnotationKind, Parameter, Refers
+from gaitgram.language.model import Rule
 
 __all__ = [
     "MAX_ITEMS",
@@ -94,10 +95,7 @@ class CompletionModel:
         return cls(
             names=tuple(rule.name for rule in firsts),
             lines=tuple(grammar.source.line_indices(r.span.start for r in firsts)),
-            firsts=tuple(
-                (a[0].span.start, a[0].span.end, len(a) > 1) if (a := rule.alternatives) else (0, 0, False)
-                for rule in firsts
-            ),
+            firsts=tuple(_first_alternative(rule) for rule in firsts),
             text=grammar.source.text,
             undefined=_undefined(result.facts.cfg),
             backend=grammar.backend,
@@ -126,6 +124,14 @@ def _undefined(cfg: Cfg) -> tuple[tuple[str, str], ...]:
                 if item in missing and item not in users:  # ints only: strings are never in it
                     users[item] = cfg.names[rule]
     return tuple((cfg.names[i], user) for i, user in users.items())
+
+
+def _first_alternative(rule: Rule) -> tuple[int, int, bool]:
+    """Where the rule's first alternative is, and whether more follow: what ``entry`` shows."""
+    if not rule.alternatives:
+        return 0, 0, False
+    span = rule.span_of(rule.alternatives[0])
+    return span.start, span.end, len(rule.alternatives) > 1
 
 
 def _production(text: str, start: int, end: int, more: bool) -> str:

@@ -60,9 +60,9 @@ def _describe(result: CheckResult, offset: int) -> tuple[str, Span] | None:
     if rule is not None:
         for alternative in rule.alternatives:
             for symbol in alternative.symbols:
-                if isinstance(symbol, RangeSymbol) and offset in symbol.span:
+                if isinstance(symbol, RangeSymbol) and offset in (span := rule.span_of(symbol)):
                     whole = alternative.range_values is not None
-                    return describe_range(symbol.spec, whole=whole), symbol.span
+                    return describe_range(symbol.spec, whole=whole), span
     name = name_at(grammar, offset)
     if name is not None:
         return describe_rule(result, name.name), name.span
@@ -108,7 +108,7 @@ def describe_rule(result: CheckResult, name: str) -> str:
         f"**`<{name}>`**: {facts.choices:,} choice{'' if facts.choices == 1 else 's'} ({codon}), "
         f"{depth}; {', '.join(flags)}"
     )
-    lines = [_production(grammar.source.slice(a.span)) for a in rule.alternatives[:MAX_PRODUCTIONS]]
+    lines = [_production(grammar.source.slice(rule.span_of(a))) for a in rule.alternatives[:MAX_PRODUCTIONS]]
     pad = " " * (len(name) + 4)
     body = "\n".join(f"<{name}> ::= {line}" if i == 0 else f"{pad}| {line}" for i, line in enumerate(lines))
     if len(rule.alternatives) > MAX_PRODUCTIONS:

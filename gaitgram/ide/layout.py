@@ -51,7 +51,7 @@ def inlay_hints(result: CheckResult, start: int, end: int) -> list[InlayHint]:
                 continue
             for symbol in alternative.symbols:
                 if isinstance(symbol, RangeSymbol):
-                    hints.append(InlayHint(symbol.span.end, f"{symbol.spec.size:,} values, 1 codon"))
+                    hints.append(InlayHint(rule.span_of(symbol).end, f"{symbol.spec.size:,} values, 1 codon"))
     return hints
 
 

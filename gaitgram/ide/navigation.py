@@ -48,8 +48,8 @@ def name_at(grammar: Grammar, offset: int) -> Occurrence | None:
         if offset in rule.name_span:
             return Occurrence(rule.name, rule.name_span, True)
         for ref in rule.references():
-            if offset in ref.span:
-                return Occurrence(ref.name, ref.span, False)
+            if offset in (span := rule.span_of(ref)):
+                return Occurrence(ref.name, span, False)
         return None
     annotation = grammar.annotation_at(offset)
     if annotation is not None:
@@ -65,7 +65,7 @@ def occurrences(grammar: Grammar, name: str) -> list[Occurrence]:
     for rule in grammar.rules:
         if rule.name == name:
             found.append(Occurrence(name, rule.name_span, True))
-        found += [Occurrence(name, ref.span, False) for ref in rule.references() if ref.name == name]
+        found += [Occurrence(name, rule.span_of(ref), False) for ref in rule.references() if ref.name == name]
     for annotation in grammar.annotations:
         found += [
             Occurrence(name, span, False) for named, span in rule_references(annotation) if named == name

@@ -18,6 +18,7 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from lark import Token, Tree
 
@@ -62,11 +63,11 @@ _TEXTUAL = frozenset({"TEXT", "WS"})
 SAFE, UNSAFE = Applicability.SAFE, Applicability.UNSAFE
 
 
-@dataclass(frozen=True, slots=True)
-class Parts:
+class Parts(NamedTuple):
     """What a text reads as before the document-wide settings are decided: each rule with
     its own annotations' meaning (``meaning.read_rule``). A part of a document reads the
-    same alone as in place, which is what the incremental parser keeps."""
+    same alone as in place, which is what the incremental parser keeps (a tuple: thousands
+    are rebuilt when an edit moves the segments after it, see ``moved``)."""
 
     rules: tuple[Rule, ...]
     annotations: tuple[Annotation, ...]
@@ -74,6 +75,27 @@ class Parts:
     problems: tuple[Diagnostic, ...]
     #: Its own ``@define`` values.
     defines: dict[str, int]
+
+    def moved(self, delta: int) -> Parts:
+        """The same parts ``delta`` characters further on (the incremental parser's segment
+        that moved): new rules, annotations, joints and problems, none changed in place."""
+        if delta == 0:
+            return self
+        if not self.annotations:  # most segments: one plain rule
+            rules = tuple([rule.moved(delta, ()) for rule in self.rules])
+            problems = tuple([problem.moved(delta) for problem in self.problems])
+            return Parts(rules, (), (), problems, self.defines)
+        annotations = {id(a): a.moved(delta) for a in self.annotations}
+        rules = tuple(
+            [rule.moved(delta, tuple([annotations[id(a)] for a in rule.annotations])) for rule in self.rules]
+        )
+        return Parts(
+            rules,
+            tuple(annotations.values()),
+            tuple([joint.moved(delta) for joint in self.joints]),
+            tuple([problem.moved(delta) for problem in self.problems]),
+            self.defines,
+        )
 
 
 def read_parts(tree: Tree, source: SourceText, defines: Mapping[str, int] | None = None) -> Parts:
@@ -264,7 +286,7 @@ class _Builder:
         name = head[1:close]
         name_span = Span(head.start_pos, head.start_pos + close + 1)
         pieces = self._pieces(tree.children[1]) if len(tree.children) > 1 else []
-        alternatives = self._alternatives(name, pieces)
+        alternatives = self._alternatives(name, pieces, head.start_pos)
         end = _content_end(pieces, head.end_pos)
         rule_span = Span(head.start_pos, end)
         if not alternatives:
@@ -282,8 +304,9 @@ class _Builder:
             )
         return Rule(name, tuple(alternatives), rule_span, name_span, tuple(annotations))
 
-    def _alternatives(self, rule: str, pieces: list[Piece]) -> list[Alternative]:
-        """Split a right-hand side at ``|`` and comments, then read each part."""
+    def _alternatives(self, rule: str, pieces: list[Piece], base: int) -> list[Alternative]:
+        """Split a right-hand side at ``|`` and comments, then read each part (spans from ``base``,
+        the rule's start)."""
         alternatives: list[Alternative] = []
         groups: list[list[list[Piece]]] = [[[]]]  # pipe groups -> comment segments -> pieces
         segment = groups[0][0]
@@ -308,14 +331,15 @@ class _Builder:
                 if not trimmed:
                     continue
                 nonblank += 1
-                alternative = self._alternative(rule, trimmed)
+                alternative = self._alternative(rule, trimmed, base)
                 if nonblank > 1:
-                    at = Span(alternative.span.start, alternative.span.start)
+                    where = alternative.local_span.shifted(base)
+                    at = Span(where.start, where.start)
                     self.problems.append(
                         diagnostic(
                             "GG107",
                             "this line starts a new alternative, because a comment ended the one before it",
-                            alternative.span,
+                            where,
                             rule=rule,
                             hint="PonyGE2 reads it that way too; put | before it to say so",
                             fixes=[Fix("Write the | before it", (TextEdit(at, "| "),), SAFE, True)],
@@ -338,7 +362,7 @@ class _Builder:
                 )
         return alternatives
 
-    def _alternative(self, rule: str, pieces: list[Piece]) -> Alternative:
+    def _alternative(self, rule: str, pieces: list[Piece], base: int) -> Alternative:
         text = self.source.text
         symbols: list[Symbol] = []
         parts: list[str] = []  # terminal text waiting to be one Terminal
@@ -350,9 +374,9 @@ class _Builder:
             i += 1
             if kind == "NONTERMINAL":
                 if parts:
-                    symbols.append(Terminal("".join(parts), Span(parts_start, parts_end)))
+                    symbols.append(Terminal("".join(parts), Span(parts_start - base, parts_end - base)))
                     parts = []
-                symbols.append(NonTerminal(text[start + 1 : end - 1], Span(start, end)))
+                symbols.append(NonTerminal(text[start + 1 : end - 1], Span(start - base, end - base)))
                 after_newline = False
                 continue
             if kind in _TEXTUAL:
@@ -385,17 +409,17 @@ class _Builder:
                 value = self._special(rule, kind, start, end, whole=count == 1)
                 if not isinstance(value, str):
                     if parts:
-                        symbols.append(Terminal("".join(parts), Span(parts_start, parts_end)))
+                        symbols.append(Terminal("".join(parts), Span(parts_start - base, parts_end - base)))
                         parts = []
-                    symbols.append(RangeSymbol(value, Span(start, end)))
+                    symbols.append(RangeSymbol(value, Span(start - base, end - base)))
                     continue
             if not parts:
                 parts_start = start
             parts.append(value)
             parts_end = end
         if parts:
-            symbols.append(Terminal("".join(parts), Span(parts_start, parts_end)))
-        return Alternative(tuple(symbols), Span(pieces[0][1], pieces[-1][2]))
+            symbols.append(Terminal("".join(parts), Span(parts_start - base, parts_end - base)))
+        return Alternative(tuple(symbols), Span(pieces[0][1] - base, pieces[-1][2] - base))
 
     def _special(self, rule: str, kind: str, start: int, end: int, *, whole: bool) -> str | RangeSpec:
         """The rarer pieces: ranges, a lone ``<``, unterminated strings. Text if unusable."""

@@ -15,9 +15,10 @@ then no annotation is pending there, and every annotation stays in the segment o
 rule it annotates.
 
 Each segment is read once and kept, keyed by its text; after an edit only new texts are
-read. A kept segment that moved has its spans shifted in place, which is cheap, but it
-means a :class:`~gaitgram.language.model.Grammar` from an earlier call must not be read
-once a later call has started (the language server's ``documents.py`` guarantees it).
+read. A kept segment that moved is rebuilt at its new place by ``Parts.moved``, which is
+cheap because a rule's pieces count from the rule's start (``Rule.span_of``): only the
+rules, annotations, joints and problems are new objects. Nothing is changed in place, so a
+:class:`~gaitgram.language.model.Grammar` from an earlier call stays true to its text.
 
 A segment keeps what the builder read of it (:class:`~gaitgram.language.builder.Parts`:
 rule-scope meaning only); what depends on the whole document is decided from all segments
@@ -31,7 +32,7 @@ from __future__ import annotations
 
 from bisect import bisect_right
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from gaitgram.collector import gc_paused
 from gaitgram.language import parse
@@ -40,7 +41,7 @@ from gaitgram.language.builder import Parts, assemble_grammar, read_parts
 from gaitgram.language.meaning import read_defines
 from gaitgram.language.model import Grammar
 from gaitgram.language.parser import parse_tree
-from gaitgram.language.source import SourceText, Span
+from gaitgram.language.source import SourceText
 from gaitgram.language.syntax import item_lines
 
 __all__ = ["FULL_PARSE_AT", "IncrementalMismatch", "IncrementalParser", "segment_starts"]
@@ -61,68 +62,38 @@ def segment_starts(text: str) -> list[int]:
     return starts
 
 
-@dataclass(eq=False)
-class Segment:
-    """What one segment reads as, with spans at ``base`` (its current offset in the document)."""
+class Segment(NamedTuple):
+    """What one segment reads as, with spans at ``base`` (its offset in the document)."""
 
     text: str
     base: int
     parts: Parts
     #: For a segment with ``GE_RANGE:``: the document's defines it was read with.
     read_with: tuple[tuple[str, int], ...] | None = None
-    _spans: list[Span] | None = field(default=None, repr=False)
 
     @property
     def needs_defines(self) -> bool:
-        return "GE_RANGE:" in self.text
+        return _needs_defines(self.text)
 
-    def move_to(self, base: int) -> None:
-        """Shift every span in place (each span object once: the model shares them)."""
-        delta = base - self.base
-        if delta == 0:
-            return
-        if self._spans is None:
-            self._spans = _unique_spans(self.parts)
-        for span in self._spans:
-            span.start += delta
-            span.end += delta
-        self.base = base
+    def at(self, base: int) -> Segment:
+        """This segment moved to ``base``: new parts, the old ones untouched."""
+        if base == self.base:
+            return self
+        return Segment(self.text, base, self.parts.moved(base - self.base), self.read_with)
 
 
-def _unique_spans(parts: Parts) -> list[Span]:
-    seen: dict[int, Span] = {}
-
-    def add(span: Span) -> None:
-        seen[id(span)] = span
-
-    for rule in parts.rules:
-        add(rule.span)
-        add(rule.name_span)
-        for alternative in rule.alternatives:
-            add(alternative.span)
-            for symbol in alternative.symbols:
-                add(symbol.span)
-    for annotation in parts.annotations:
-        add(annotation.span)
-        add(annotation.name_span)
-        for argument in annotation.arguments:
-            add(argument.span)
-    for joint in parts.joints:
-        add(joint.span)
-    for problem in parts.problems:
-        for span in problem.spans():  # its fixes' edits too
-            add(span)
-    return list(seen.values())
+def _needs_defines(text: str) -> bool:
+    """Whether a text's meaning may depend on the document's ``@define`` values."""
+    return "GE_RANGE:" in text
 
 
 def _read_segment(text: str, start: int, end: int, defines: Mapping[str, int]) -> Segment:
     """Read ``text[start:end]`` alone. A one-line comment pads it to its place, so its spans
     come out absolute without a pass to shift them."""
     padded = ("#" * (start - 1) + "\n" if start else "") + text[start:end]
-    segment = Segment(text[start:end], start, read_parts(parse_tree(padded), SourceText(padded), defines))
-    if segment.needs_defines:
-        segment.read_with = tuple(sorted(defines.items()))
-    return segment
+    own = text[start:end]
+    read_with = tuple(sorted(defines.items())) if _needs_defines(own) else None
+    return Segment(own, start, read_parts(parse_tree(padded), SourceText(padded), defines), read_with)
 
 
 def _split(
@@ -146,12 +117,11 @@ def _split(
     segments = []
     for start, end, (rules, notes, joints, problems) in zip(starts, ends, buckets, strict=True):
         own = read_defines(check_annotation(a, []) for a in notes)
-        segment = Segment(
-            text[start:end], start, Parts(tuple(rules), tuple(notes), tuple(joints), tuple(problems), own)
+        parts = Parts(tuple(rules), tuple(notes), tuple(joints), tuple(problems), own)
+        segment_text = text[start:end]
+        segments.append(
+            Segment(segment_text, start, parts, read_with if _needs_defines(segment_text) else None)
         )
-        if segment.needs_defines:
-            segment.read_with = read_with
-        segments.append(segment)
     return segments
 
 
@@ -201,7 +171,7 @@ class IncrementalParser:
         self._defines = dict(self.external_defines)
 
     def parse(self, text: str | SourceText) -> Grammar:
-        """The same grammar as ``parse(text)``; the previous result's spans may move."""
+        """The same grammar as ``parse(text)``; earlier results are left as they were."""
         source = text if isinstance(text, SourceText) else SourceText(text)
         with gc_paused():
             grammar = self._parse(source)
@@ -237,9 +207,8 @@ class IncrementalParser:
 
         for i in missing:
             segments[i] = _read_segment(text, starts[i], ends[i], self._defines)
-        ready: list[Segment] = segments  # type: ignore[assignment]  # every hole is filled
-        for segment, start in zip(ready, starts, strict=True):
-            segment.move_to(start)
+        filled: list[Segment] = segments  # type: ignore[assignment]  # every hole is filled
+        ready = [segment.at(start) for segment, start in zip(filled, starts, strict=True)]
         defines: dict[str, int] = {}
         for segment in ready:
             defines.update(segment.parts.defines)

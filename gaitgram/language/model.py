@@ -1,9 +1,15 @@
 """The grammar model: what a ``.gg`` document means, with the source span of every part.
 
 Plain data, immutable by convention (the most numerous classes are not frozen
-only because frozen dataclasses are slow to build). The parser builds it;
-analyses, the mapper, the formatter's safety check and the language server read
-it. Rule names are stored without their angle brackets.
+only because frozen dataclasses are slow to build; spans are tuples). The parser
+builds it; analyses, the mapper, the formatter's safety check and the language
+server read it. Rule names are stored without their angle brackets.
+
+The pieces of a rule (alternatives and symbols) hold ``local_span``: offsets from their
+rule's start, which :meth:`Rule.span_of` turns into a document span. So a rule that moves
+in an edited document is one new :class:`Rule` (:meth:`Rule.moved`) around the same
+pieces, and nothing is shifted in place. Everything else (rules, annotations, joints,
+diagnostics) holds document spans.
 """
 
 from __future__ import annotations
@@ -44,7 +50,7 @@ class Terminal:
     """Literal text, escapes decoded."""
 
     text: str
-    span: Span
+    local_span: Span  # from the rule's start: ``Rule.span_of``
 
 
 @dataclass(slots=True, unsafe_hash=True)
@@ -52,7 +58,7 @@ class NonTerminal:
     """A reference to a rule, ``<name>`` in the source."""
 
     name: str
-    span: Span
+    local_span: Span  # from the rule's start: ``Rule.span_of``
 
 
 class RangeKind(StrEnum):
@@ -82,7 +88,7 @@ class RangeSymbol:
     """A typed range inside a longer alternative: an anonymous choice point."""
 
     spec: RangeSpec
-    span: Span
+    local_span: Span  # from the rule's start: ``Rule.span_of``
 
 
 Symbol = Terminal | NonTerminal | RangeSymbol
@@ -98,7 +104,7 @@ class Alternative:
     """
 
     symbols: tuple[Symbol, ...]
-    span: Span
+    local_span: Span  # from the rule's start: ``Rule.span_of``
 
     @property
     def range_values(self) -> RangeSpec | None:
@@ -177,6 +183,11 @@ class Annotation:
     def keyword(self, key: str) -> Argument | None:
         return next((a for a in self.arguments if a.key == key), None)
 
+    def moved(self, delta: int) -> Annotation:
+        """The same annotation ``delta`` characters further on."""
+        arguments = tuple(Argument(a.key, a.value, a.span.shifted(delta), a.raw) for a in self.arguments)
+        return Annotation(self.name, arguments, self.span.shifted(delta), self.name_span.shifted(delta))
+
 
 @dataclass(frozen=True, slots=True)
 class JointDecl:
@@ -197,6 +208,10 @@ class JointDecl:
             return True
         first, last = self.free
         return generation >= first and (last is None or generation <= last)
+
+    def moved(self, delta: int) -> JointDecl:
+        """The same declaration ``delta`` characters further on."""
+        return JointDecl(self.joint, self.rule, self.limits, self.free, self.span.shifted(delta))
 
 
 #: The key of the ``@frequency`` rule's phenotype among a derivation's joint phenotypes: not a
@@ -235,6 +250,28 @@ class Rule:
     def references(self) -> Iterator[NonTerminal]:
         for alternative in self.alternatives:
             yield from alternative.references()
+
+    def span_of(self, piece: Alternative | Symbol) -> Span:
+        """Where one of this rule's alternatives or symbols is in the document."""
+        start = self.span.start
+        return Span(start + piece.local_span.start, start + piece.local_span.end)
+
+    def moved(self, delta: int, annotations: tuple[Annotation, ...] | None = None) -> Rule:
+        """The same rule ``delta`` characters further on: its pieces are shared, not copied.
+
+        ``annotations``: its annotations, already moved (to share them with the grammar's
+        list); by default they are moved here.
+        """
+        if annotations is None:
+            annotations = tuple([a.moved(delta) for a in self.annotations])
+        span, name_span = self.span, self.name_span
+        return Rule(
+            self.name,
+            self.alternatives,
+            Span(span.start + delta, span.end + delta),
+            Span(name_span.start + delta, name_span.end + delta),
+            annotations,
+        )
 
 
 @dataclass(frozen=True, eq=False)

@@ -11,8 +11,9 @@ still the document's revision when it is ready, and features read it only while 
   :class:`CompletionModel`, which holds only plain values, together with the current text.
   The model is built after the diagnostics are published, in the same worker.
 
-Why a snapshot is unreadable once its revision is not the current one: the incremental
-parser shifts the spans of the rules it keeps, in place, when it analyses a newer text.
+Why a snapshot is not read once its revision is not the current one: its offsets are those of
+an older text, so an answer from it would point at the wrong place in the editor. (The
+snapshot itself never changes: the incremental parser builds new objects for what moved.)
 """
 
 from __future__ import annotations

@@ -7,6 +7,7 @@ import pytest
 from gaitgram.analysis import check
 from gaitgram.language import parse
 from gaitgram.language.model import NonTerminal, RangeSymbol, Terminal
+from gaitgram.language.source import Span
 
 
 def codes(text: str) -> list[str]:
@@ -126,9 +127,22 @@ def test_spans_point_at_the_source() -> None:
     assert grammar.source.slice(a.name_span) == "<a>"
     ref = a.alternatives[0].symbols[0]
     assert isinstance(ref, NonTerminal)
-    assert grammar.source.slice(ref.span) == "<b>"
+    assert grammar.source.slice(a.span_of(ref)) == "<b>"
     assert grammar.source.location(b.name_span.start).line == 2
-    assert grammar.source.slice(a.alternatives[0].span) == "<b> x"
+    assert grammar.source.slice(a.span_of(a.alternatives[0])) == "<b> x"
+    # A rule's pieces count from the rule's start, so that a rule can move without them.
+    (y,) = b.alternatives
+    assert y.local_span == Span(8, 9)
+    assert grammar.source.slice(b.span_of(y)) == "y"
+    moved = b.moved(5)
+    assert moved.alternatives is b.alternatives
+    assert moved.span_of(y) == b.span_of(y).shifted(5)
+
+
+def test_spans_cannot_change() -> None:
+    span = parse("<a> ::= x").rules[0].span
+    with pytest.raises(AttributeError):
+        span.start = 3  # type: ignore[misc]
 
 
 def test_a_broken_document_still_yields_the_rules_that_parse() -> None:
