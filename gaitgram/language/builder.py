@@ -81,16 +81,14 @@ class Parts(NamedTuple):
         that moved): new rules, annotations, joints and problems, none changed in place."""
         if delta == 0:
             return self
-        if not self.annotations:  # most segments: one plain rule
-            rules = tuple([rule.moved(delta, ()) for rule in self.rules])
-            problems = tuple([problem.moved(delta) for problem in self.problems])
-            return Parts(rules, (), (), problems, self.defines)
-        annotations = {id(a): a.moved(delta) for a in self.annotations}
-        rules = tuple(
-            [rule.moved(delta, tuple([annotations[id(a)] for a in rule.annotations])) for rule in self.rules]
-        )
+        annotations = {id(a): a.moved(delta) for a in self.annotations}  # shared with their rules
         return Parts(
-            rules,
+            tuple(
+                [
+                    rule.moved(delta, tuple([annotations[id(a)] for a in rule.annotations]))
+                    for rule in self.rules
+                ]
+            ),
             tuple(annotations.values()),
             tuple([joint.moved(delta) for joint in self.joints]),
             tuple([problem.moved(delta) for problem in self.problems]),
