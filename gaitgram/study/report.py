@@ -4,9 +4,10 @@ The input is a set of arms, each a run directory of ``gaitgram evolve`` (a
 study directory's ``arms/*``, or run directories given one by one). Per arm,
 the final generation of every run gives one final best and one final average;
 the report shows them in the layout of the paper's Tables 4 and 5 (mean ± SD),
-with medians, bootstrap intervals, the share of unviable gaits and the walk
-rate, and tests every difference (:mod:`gaitgram.study.stats`). Arms run at
-different budgets are refused: their numbers do not compare.
+with medians, bootstrap intervals, the share of unviable gaits, the walk rate
+and the share of runs that hand back a walk at all, and tests every difference
+(:mod:`gaitgram.study.stats`). Arms run at different budgets are refused: their
+numbers do not compare.
 
 Written files: ``summary.md``, ``summary.csv``, ``tables.tex`` (booktabs),
 ``summary.json``, ``convergence.png`` and ``convergence.svg``; for an arm whose
@@ -60,6 +61,9 @@ class RunRecord:
     evaluations: int
     final_status: str
     walk: bool | None  # the final best is a walk (None: the backend does not say)
+    #: What the run hands back holds a walk: its repertoire, its Pareto front, or else its final
+    #: population (None: the backend or the records do not say).
+    holds_walk: bool | None = None
 
 
 @dataclass(frozen=True)
@@ -94,6 +98,13 @@ class ArmRecord:
         if any(w is None for w in walks):
             return None
         return sum(bool(w) for w in walks) / len(walks)
+
+    @property
+    def walk_held_rate(self) -> float | None:
+        held = [r.holds_walk for r in self.runs]
+        if any(h is None for h in held):
+            return None
+        return sum(bool(h) for h in held) / len(held)
 
 
 def planned_budget(config: dict[str, Any]) -> int:
@@ -153,7 +164,30 @@ def _load_run(path: Path, generations: int) -> RunRecord:
         evaluations=int(population.sum()),
         final_status=str(best_record.get("status")),
         walk=None if walk is None else bool(walk >= 0.5 and best_record.get("status") == "ok"),
+        holds_walk=_holds_walk(path, records[-1]),
     )
+
+
+#: Where a strategy keeps what it hands back, and the key of its members: MAP-Elites' repertoire,
+#: NSGA-II's Pareto front. Other runs hand back their final population.
+_KEPT_SETS = (("archive.json", "elites"), ("front.json", "front"))
+
+
+def _holds_walk(path: Path, final: dict[str, Any]) -> bool | None:
+    """Whether the run hands back a walk, even one its weighted best is not: a weighted sum can rank
+    a walk below a gait that misses the walk window (docs/results/strategies)."""
+    for name, key in _KEPT_SETS:
+        if (path / name).exists():
+            try:
+                members = json.loads((path / name).read_text(encoding="utf-8"))[key]
+                walks = [member["components"].get("walk") for member in members]
+                if any(w is None for w in walks):
+                    return None
+                return any(float(w) >= 0.5 for w in walks)
+            except (OSError, ValueError, LookupError, TypeError, AttributeError) as error:
+                raise ReportError(f"{path / name}: cannot read the run's {key}: {error!r}") from None
+    share = final.get("mean_walk")  # over the final population's viable gaits
+    return None if share is None else share > 0
 
 
 def load_study_arms(directory: Path) -> list[ArmRecord]:
@@ -195,6 +229,7 @@ class ArmSummary:
     mean_average_viable: float
     unviable_share: float
     walk_rate: float | None
+    walk_held_rate: float | None
 
 
 def summarise(arm: ArmRecord) -> ArmSummary:
@@ -213,6 +248,7 @@ def summarise(arm: ArmRecord) -> ArmSummary:
         float(np.nanmean(viable)) if np.isfinite(viable).any() else math.nan,
         float(arm.final_unviable_share.mean()),
         arm.walk_rate,
+        arm.walk_held_rate,
     )
 
 
@@ -242,6 +278,7 @@ class StudyReport:
                     "mean_average_viable": s.mean_average_viable,
                     "unviable_share": s.unviable_share,
                     "walk_rate": s.walk_rate,
+                    "walk_held_rate": s.walk_held_rate,
                 }
                 for s, a in zip(self.summaries, self.arms, strict=True)
             ],
@@ -302,18 +339,21 @@ def markdown(report: StudyReport, title: str = "", extra: Sequence[str] = ()) ->
     lines += [
         "Final generation, over runs. Fitness is minimised. *Average* is the population's mean over "
         "every individual, unviable gaits at their score (the paper's Avg. Avg.); *viable average* "
-        "leaves them out.",
+        "leaves them out. *Walk rate*: the share of runs whose best gait is a walk; *walk held*: the "
+        "share whose final population (a `nsga2` run's Pareto front, a `map-elites` run's "
+        "repertoire) holds one.",
         "",
         "| arm | runs | avg. best | SD | avg. average | SD | median best [95 % CI] | viable average "
-        "| unviable | walk rate |",
-        "|---|---:|---:|---:|---:|---:|---|---:|---:|---:|",
+        "| unviable | walk rate | walk held |",
+        "|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|",
     ]
     for s in report.summaries:
         low, high = s.median_best_ci
         lines.append(
             f"| {s.name} | {s.runs} | {_g(s.mean_best)} | {_g(s.sd_best)} | {_g(s.mean_average)} | "
             f"{_g(s.sd_average)} | {_g(s.median_best)} [{_g(low)}, {_g(high)}] | "
-            f"{_g(s.mean_average_viable)} | {_rate(s.unviable_share)} | {_rate(s.walk_rate)} |"
+            f"{_g(s.mean_average_viable)} | {_rate(s.unviable_share)} | {_rate(s.walk_rate)} | "
+            f"{_rate(s.walk_held_rate)} |"
         )
     for label, comparison in (("final best", report.best), ("final average", report.average)):
         lines += [
@@ -352,6 +392,7 @@ _CSV_HEADER = [
     "mean_average_viable",
     "unviable_share",
     "walk_rate",
+    "walk_held_rate",
 ]
 
 
@@ -374,6 +415,7 @@ def csv_text(report: StudyReport) -> str:
                 s.mean_average_viable,
                 s.unviable_share,
                 "" if s.walk_rate is None else s.walk_rate,
+                "" if s.walk_held_rate is None else s.walk_held_rate,
             ]
         )
     return out.getvalue()
@@ -395,7 +437,7 @@ def latex(report: StudyReport) -> str:
     """Booktabs tables, ready for ``\\usepackage{booktabs}``."""
     rows = [
         f"{_tex(s.name)} & {s.runs} & {_g(s.mean_best)} & {_g(s.sd_best)} & {_g(s.mean_average)} & "
-        f"{_g(s.sd_average)} & {_tex(_rate(s.walk_rate))} \\\\"
+        f"{_g(s.sd_average)} & {_tex(_rate(s.walk_rate))} & {_tex(_rate(s.walk_held_rate))} \\\\"
         for s in report.summaries
     ]
     pairs = [
@@ -405,9 +447,9 @@ def latex(report: StudyReport) -> str:
     return "\n".join(
         [
             "% gaitgram study report: final best and average over runs (mean and SD).",
-            "\\begin{tabular}{lrrrrrr}",
+            "\\begin{tabular}{lrrrrrrr}",
             "\\toprule",
-            "Arm & Runs & Avg.\\ best & SD & Avg.\\ avg. & SD & Walk rate \\\\",
+            "Arm & Runs & Avg.\\ best & SD & Avg.\\ avg. & SD & Walk rate & Walk held \\\\",
             "\\midrule",
             *rows,
             "\\bottomrule",

@@ -211,3 +211,78 @@ def test_a_study_grows_more_runs_and_never_drops_any(tmp_path: Path) -> None:
     fewer = gaitgram("study", str(study), "-o", str(tmp_path / "s"), "-q", "--runs", "2")
     assert fewer.returncode == 2
     assert "holds 3 runs per arm" in fewer.stderr
+
+
+def write_arm(path: Path, runs: list[dict]) -> Path:
+    """A finished two-generation arm written by hand: each run gives its best's walk component, the
+    final population's mean walk and, optionally, a Pareto front or repertoire."""
+    path.mkdir(parents=True)
+    (path / "config.toml").write_text(f"generations = 1\npopulation = 4\nelite = 1\nruns = {len(runs)}\n")
+    for index, run in enumerate(runs):
+        directory = path / f"run-{index:03d}"
+        directory.mkdir()
+        rows = [{"best": 1.0, "average": 1.0, "invalid": 0, "evaluations": 4, **run.get("stats", {})}] * 2
+        (directory / "stats.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows))
+        best = {"status": "ok", "components": {"walk": run["best_walk"]}}
+        (directory / "best.json").write_text(json.dumps(best))
+        for name, key in (("front.json", "front"), ("archive.json", "elites")):
+            if name in run:
+                members = [{"components": {"walk": w}} for w in run[name]]
+                (directory / name).write_text(json.dumps({key: members}))
+    return path
+
+
+def test_walk_held_counts_what_each_strategy_hands_back(tmp_path: Path) -> None:
+    from gaitgram.study.report import csv_text, load_arm, markdown
+
+    # A walk in the final population although the best is not one (as CMA-ES's runs end).
+    population = write_arm(
+        tmp_path / "population",
+        [
+            {"best_walk": 0.0, "stats": {"mean_walk": 0.25}},
+            {"best_walk": 1.0, "stats": {"mean_walk": 0.5}},
+            {"best_walk": 0.0, "stats": {"mean_walk": 0.0}},
+        ],
+    )
+    # A front or repertoire decides, not the population beside it.
+    front = write_arm(
+        tmp_path / "front",
+        [
+            {"best_walk": 0.0, "stats": {"mean_walk": 0.0}, "front.json": [0.0, 1.0]},
+            {"best_walk": 0.0, "stats": {"mean_walk": 0.5}, "front.json": [0.0, 0.0]},
+        ],
+    )
+    archive = write_arm(
+        tmp_path / "archive",
+        [{"best_walk": 0.0, "stats": {"mean_walk": 0.0}, "archive.json": [0.0, 1.0, 0.0]}] * 2,
+    )
+    # Records that do not say (an older run, a backend without the walk criterion) read n/a, not 0.
+    silent = write_arm(tmp_path / "silent", [{"best_walk": 1.0}])
+    arms = {path.name: load_arm(path) for path in (population, front, archive, silent)}
+    assert arms["population"].walk_rate == pytest.approx(1 / 3)
+    assert arms["population"].walk_held_rate == pytest.approx(2 / 3)
+    assert (arms["front"].walk_rate, arms["front"].walk_held_rate) == (0.0, 0.5)
+    assert (arms["archive"].walk_rate, arms["archive"].walk_held_rate) == (0.0, 1.0)
+    assert (arms["silent"].walk_rate, arms["silent"].walk_held_rate) == (1.0, None)
+    report = build_report(list(arms.values()))
+    table = markdown(report)
+    assert "| walk rate | walk held |" in table
+    assert "| 33% | 67% |" in table
+    assert "| 100% | n/a |" in table
+    rows = csv_text(report).splitlines()
+    assert rows[0].endswith("walk_rate,walk_held_rate")
+    assert rows[-1].endswith(",1.0,")
+    assert [a["walk_held_rate"] for a in report.as_json()["arms"]] == [pytest.approx(2 / 3), 0.5, 1.0, None]
+
+
+def test_an_unreadable_front_is_a_report_error(tmp_path: Path) -> None:
+    from gaitgram.study.report import ReportError, load_arm
+
+    arm = write_arm(tmp_path / "arm", [{"best_walk": 0.0, "front.json": [1.0]}])
+    (arm / "run-000" / "front.json").write_text('{"front": 3}')
+    with pytest.raises(ReportError, match=r"front\.json: cannot read the run's front"):
+        load_arm(arm)
+    for broken in ('{"front": [3]}', '{"front": [{"components": {"walk": "yes"}}]}', "[]", "{"):
+        (arm / "run-000" / "front.json").write_text(broken)
+        with pytest.raises(ReportError, match=r"front\.json: cannot read the run's front"):
+            load_arm(arm)
