@@ -12,7 +12,7 @@ from rich.table import Table
 
 from gaitgram import jsonio
 from gaitgram.cli.common import err
-from gaitgram.cli.options import Defines
+from gaitgram.cli.options import Defines, Walk
 from gaitgram.cli.selection import SelectionError, select_gait
 from gaitgram.ge import CodonMode
 from gaitgram.pipeline import PipelineError
@@ -50,6 +50,7 @@ def command(
         typer.Option("--set", metavar="KEY=JSON", help="A backend setting, for example froude=0.5."),
     ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+    walk: Walk = False,
     defines: Defines = None,
 ) -> None:
     """Map a genome, simulate its gait and print the fitness, its components and the status.
@@ -75,6 +76,7 @@ def command(
             config=config,
             overrides=overrides,
             defines=defines,
+            walk=walk,
         )
         pipeline = chosen.pipeline
         evaluator = pipeline.load_evaluator()

@@ -16,6 +16,17 @@ Defines = Annotated[
     ),
 ]
 
+#: ``evaluate``/``render --run DIR --walk``: the run's best walk, not its best gait.
+Walk = Annotated[
+    bool,
+    typer.Option(
+        "--walk",
+        help="With --run: the best-scoring walk the run hands back (its final population, Pareto "
+        "front or repertoire) instead of its best gait, which the weighted fitness may rank "
+        "above every walk.",
+    ),
+]
+
 
 def parse_defines(raw: list[str] | None) -> dict[str, int]:
     """``["n=5"]`` -> ``{"n": 5}``, with a usage error (exit 2) naming the bad one."""

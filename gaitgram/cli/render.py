@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from gaitgram.cli.common import err
-from gaitgram.cli.options import Defines
+from gaitgram.cli.options import Defines, Walk
 from gaitgram.cli.selection import SelectedGait, SelectionError, select_gait
 from gaitgram.extras import MissingExtra
 from gaitgram.ge import CodonMode
@@ -84,6 +84,7 @@ def command(
     ] = None,
     fps: Annotated[int, typer.Option(min=1, max=60, help="Frames per second of the animation.")] = 25,
     force: Annotated[bool, typer.Option("--force", help="Overwrite existing output files.")] = False,
+    walk: Walk = False,
     defines: Defines = None,
 ) -> None:
     """Render a gait on the mujoco-horse backend offscreen (MUJOCO_GL=egl by default).
@@ -111,6 +112,7 @@ def command(
             config=config,
             overrides=overrides,
             defines=defines,
+            walk=walk,
         )
         other = None if compare in (None, SEED) else _best_of(Path(compare))
     except SelectionError as error:

@@ -19,7 +19,7 @@ from gaitgram.cli.common import load_usable, read_genome
 from gaitgram.cli.options import parse_defines
 from gaitgram.evolution.config import ConfigError, load_config
 from gaitgram.evolution.engine import CheckpointError
-from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_of_runs
+from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_of_runs, best_walk_of_runs
 from gaitgram.pipeline import Pipeline, PipelineError
 
 
@@ -57,11 +57,15 @@ def select_gait(
     config: Path | None,
     overrides: dict[str, Any],
     defines: list[str] | None,
+    walk: bool = False,
 ) -> SelectedGait:
-    """From ``--run DIR`` (nothing else that changes meaning allowed) or a grammar and options."""
+    """From ``--run DIR`` (nothing else that changes meaning allowed) or a grammar and options;
+    ``walk`` picks the run's best walk rather than its best gait."""
     try:
         if run is not None:
-            return _from_run(run, grammar, genome, genome_file, generation, config, overrides, defines)
+            return _from_run(run, grammar, genome, genome_file, generation, config, overrides, defines, walk)
+        if walk:
+            raise SelectionError("--walk picks a gait from a run: give --run DIR")
         if grammar is None:
             raise typer.BadParameter("give a grammar and a genome, or --run DIR", param_hint="GRAMMAR")
         codons = read_genome(genome, genome_file)
@@ -82,6 +86,7 @@ def _from_run(
     config: Path | None,
     overrides: dict[str, Any],
     defines: list[str] | None,
+    walk: bool,
 ) -> SelectedGait:
     given = [_FLAGS.get(name, name) for name, value in overrides.items() if value is not None]
     if grammar is not None:
@@ -95,7 +100,15 @@ def _from_run(
             f"--run {path} uses the run's own grammar, configuration and backend settings; drop "
             f"{', '.join(given)} (or evaluate the grammar on its own, without --run)"
         )
+    if walk and (genome is not None or genome_file is not None):
+        raise SelectionError("--walk picks the run's best walk; drop --genome/--genome-file, or --walk")
     directory = RunDirectory.open(path)
+    if walk:
+        kept = best_walk_of_runs(directory)
+        at = kept.generation if generation is None else generation
+        recorded = kept.evaluation if at == kept.generation else None
+        describe = f"{path} run {kept.run}, best walk, generation {at}"
+        return SelectedGait(directory.pipeline, kept.genome, at, recorded, describe)
     run, last, best = best_of_runs(directory)
     if genome is None and genome_file is None:
         at = last if generation is None else generation

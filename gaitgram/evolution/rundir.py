@@ -34,13 +34,15 @@ from typing import Any
 
 from gaitgram import __version__, jsonio
 from gaitgram.analysis import check
+from gaitgram.backends.api import Evaluation, GaitStatus
 from gaitgram.backends.registry import backend_version
 from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, differences, read_toml
 from gaitgram.evolution.engine import ENGINE_REVISION
 from gaitgram.fileio import write_atomically
 from gaitgram.language import parse
 from gaitgram.language.source import SourceText, decode_source
-from gaitgram.pipeline import Individual, Pipeline, PipelineError
+from gaitgram.pipeline import Genome, Individual, Pipeline, PipelineError
+from gaitgram.strategies.figures import RecordError, kept_members
 from gaitgram.strategies.registry import get_strategy
 
 MANIFEST = "manifest.json"
@@ -374,3 +376,57 @@ def best_of_runs(directory: RunDirectory) -> tuple[int, int, Individual]:
         raise RunDirectoryError(f"{directory.path} has no checkpoint yet: no run has finished a generation")
     _, run, generation, best = min(found, key=lambda item: (item[0], item[1]))
     return run, generation, best
+
+
+@dataclass(frozen=True)
+class KeptGait:
+    """A gait a run hands back, with the evaluation the run recorded for it."""
+
+    run: int
+    generation: int
+    genome: Genome
+    evaluation: Evaluation
+
+
+def best_walk_of_runs(directory: RunDirectory) -> KeptGait:
+    """The best-scoring walk any run hands back: from its repertoire or Pareto front when its
+    strategy keeps one, else from its last checkpoint's population.
+
+    The weighted fitness can rank a walk below a gait just outside the walk window, so a run whose
+    best is no walk may still hold one. Kept sets are read from their records; whoever shows the
+    gait re-scores it and compares with the recorded evaluation.
+    """
+    from gaitgram.evolution.engine import load_checkpoint
+
+    found: list[KeptGait] = []
+    for run, path in enumerate(directory.checkpoints):
+        if not path.exists():
+            continue
+        state = load_checkpoint(
+            path, directory.pipeline, fingerprint=directory.fingerprints, run=run, with_memory=False
+        )
+        try:
+            members = kept_members(path.parent)
+        except RecordError as error:
+            raise RunDirectoryError(str(error)) from None
+        if members is None:
+            kept = [KeptGait(run, state.generation, i.genome, i.evaluation) for i in state.population]
+        else:
+            kept = [_kept_gait(m, run, state.generation) for m in members]
+        found += [k for k in kept if k.evaluation.status is GaitStatus.OK and _walks(k.evaluation)]
+    if not found:
+        raise RunDirectoryError(
+            f"no run in {directory.path} hands back a walk (a viable gait within the walk window of "
+            "the target speed and duty factor); its best gaits are shown without --walk"
+        )
+    return min(found, key=lambda k: (k.evaluation.fitness, k.run))
+
+
+def _walks(evaluation: Evaluation) -> bool:
+    return evaluation.components.get("walk", 0.0) >= 0.5
+
+
+def _kept_gait(member: dict[str, Any], run: int, generation: int) -> KeptGait:
+    """From a record :func:`kept_members` checked."""
+    evaluation = Evaluation(float(member["fitness"]), GaitStatus.OK, dict(member["components"]))
+    return KeptGait(run, generation, tuple(member["genome"]), evaluation)

@@ -38,6 +38,41 @@ def run_dirs(arm: Path) -> list[Path]:
     return sorted(p for p in arm.glob("run-[0-9][0-9][0-9]") if p.is_dir())
 
 
+#: Where a strategy keeps the set of gaits it hands back, and the key of its members.
+KEPT_SETS = ((ARCHIVE, "elites"), (FRONT, "front"))
+
+
+def kept_members(run_dir: Path) -> tuple[dict[str, Any], ...] | None:
+    """The gaits a run hands back when its strategy keeps a set (a repertoire's cells, a Pareto
+    front), each a record with its fitness, components and genome (checked to be numbers); None
+    if it keeps neither, when what it hands back is its final population (in its checkpoint)."""
+    for name, key in KEPT_SETS:
+        path = run_dir / name
+        if path.is_file():
+            members = _read(path).get(key)
+            if not isinstance(members, list) or not all(_is_gait(m) for m in members):
+                raise RecordError(
+                    f"{path}: malformed (its {key!r} is not a list of gaits, each with a fitness, "
+                    "numeric components and a genome of integers)"
+                )
+            return tuple(members)
+    return None
+
+
+def _is_gait(member: Any) -> bool:
+    def number(value: Any) -> bool:
+        return isinstance(value, int | float) and not isinstance(value, bool)
+
+    return (
+        isinstance(member, dict)
+        and number(member.get("fitness"))
+        and isinstance(member.get("components"), dict)
+        and all(number(v) for v in member["components"].values())
+        and isinstance(member.get("genome"), list)
+        and all(isinstance(c, int) and not isinstance(c, bool) for c in member["genome"])
+    )
+
+
 # ---- Pareto fronts --------------------------------------------------------------------------
 
 

@@ -38,6 +38,7 @@ from gaitgram.strategies.figures import (
     RecordError,
     archive_figure,
     front_figure,
+    kept_members,
     load_fronts,
     load_repertoire,
     spread_cells,
@@ -168,26 +169,18 @@ def _load_run(path: Path, generations: int) -> RunRecord:
     )
 
 
-#: Where a strategy keeps what it hands back, and the key of its members: MAP-Elites' repertoire,
-#: NSGA-II's Pareto front. Other runs hand back their final population.
-_KEPT_SETS = (("archive.json", "elites"), ("front.json", "front"))
-
-
 def _holds_walk(path: Path, final: dict[str, Any]) -> bool | None:
     """Whether the run hands back a walk, even one its weighted best is not: a weighted sum can rank
     a walk below a gait that misses the walk window (docs/results/strategies)."""
-    for name, key in _KEPT_SETS:
-        if (path / name).exists():
-            try:
-                members = json.loads((path / name).read_text(encoding="utf-8"))[key]
-                walks = [member["components"].get("walk") for member in members]
-                if any(w is None for w in walks):
-                    return None
-                return any(float(w) >= 0.5 for w in walks)
-            except (OSError, ValueError, LookupError, TypeError, AttributeError) as error:
-                raise ReportError(f"{path / name}: cannot read the run's {key}: {error!r}") from None
-    share = final.get("mean_walk")  # over the final population's viable gaits
-    return None if share is None else share > 0
+    try:
+        members = kept_members(path)
+    except RecordError as error:
+        raise ReportError(str(error)) from None
+    if members is None:
+        share = final.get("mean_walk")  # over the final population's viable gaits
+        return None if share is None else share > 0
+    walks = [m["components"].get("walk") for m in members]
+    return None if any(w is None for w in walks) else any(w >= 0.5 for w in walks)
 
 
 def load_study_arms(directory: Path) -> list[ArmRecord]:

@@ -227,7 +227,7 @@ def write_arm(path: Path, runs: list[dict]) -> Path:
         (directory / "best.json").write_text(json.dumps(best))
         for name, key in (("front.json", "front"), ("archive.json", "elites")):
             if name in run:
-                members = [{"components": {"walk": w}} for w in run[name]]
+                members = [{"fitness": 1.0, "components": {"walk": w}, "genome": [1, 2]} for w in run[name]]
                 (directory / name).write_text(json.dumps({key: members}))
     return path
 
@@ -279,10 +279,13 @@ def test_an_unreadable_front_is_a_report_error(tmp_path: Path) -> None:
     from gaitgram.study.report import ReportError, load_arm
 
     arm = write_arm(tmp_path / "arm", [{"best_walk": 0.0, "front.json": [1.0]}])
-    (arm / "run-000" / "front.json").write_text('{"front": 3}')
-    with pytest.raises(ReportError, match=r"front\.json: cannot read the run's front"):
-        load_arm(arm)
-    for broken in ('{"front": [3]}', '{"front": [{"components": {"walk": "yes"}}]}', "[]", "{"):
+    for broken, problem in [
+        ('{"front": 3}', "malformed"),
+        ('{"front": [3]}', "malformed"),
+        ("[]", "not a record"),
+        ("{", "cannot read"),
+        ('{"front": [{"fitness": 1, "components": {"walk": "yes"}, "genome": [1]}]}', "malformed"),
+    ]:
         (arm / "run-000" / "front.json").write_text(broken)
-        with pytest.raises(ReportError, match=r"front\.json: cannot read the run's front"):
+        with pytest.raises(ReportError, match=rf"run-000.*{problem}"):
             load_arm(arm)
