@@ -503,6 +503,20 @@ def figure_name(kind: str, arm: str, suffix: str = ".png") -> str:
     return f"{kind}-{re.sub(r'[^A-Za-z0-9_.-]+', '_', arm).strip('_.') or 'arm'}{suffix}"
 
 
+def _saturation(front_sizes: list[int], population: int) -> str:
+    """A warning when the whole population is non-dominated, common with three or more
+    objectives: Pareto rank then tells no gait from another and NSGA-II selects by crowding
+    alone, spreading the population along the front instead of pressing it forward."""
+    whole = sum(size >= population for size in front_sizes)
+    if not whole:
+        return ""
+    return (
+        f". In {whole} of {len(front_sizes)} runs the final front is the whole population "
+        f"({population}): rank no longer selects, crowding alone does; fewer objectives "
+        "(strategy setting `objectives`) restore the pressure"
+    )
+
+
 def strategy_lines(arms: list[ArmRecord]) -> list[str]:
     """The summary's section on fronts and repertoires (empty if no arm keeps either)."""
     lines: list[str] = []
@@ -520,6 +534,7 @@ def strategy_lines(arms: list[ArmRecord]) -> list[str]:
                 f"- **{arm.name}** ({figure_name('front', arm.name)}): Pareto fronts of {np.mean(sizes):.1f} "
                 f"gaits on average; the best of each objective, mean over runs: "
                 + ", ".join(f"{n} {_g(v)}" for n, v in zip(names, np.atleast_1d(best), strict=False))
+                + _saturation(sizes, arm.population)
             )
         if repertoire is not None:
             together = int(np.sum(repertoire.coverage > 0))

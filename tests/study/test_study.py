@@ -289,3 +289,12 @@ def test_an_unreadable_front_is_a_report_error(tmp_path: Path) -> None:
         (arm / "run-000" / "front.json").write_text(broken)
         with pytest.raises(ReportError, match=rf"run-000.*{problem}"):
             load_arm(arm)
+
+
+def test_a_front_that_is_the_whole_population_is_called_out() -> None:
+    from gaitgram.study.report import _saturation
+
+    assert _saturation([70, 74], 75) == ""
+    note = _saturation([75, 60, 75], 75)
+    assert note.startswith(". In 2 of 3 runs the final front is the whole population (75)")
+    assert "fewer objectives" in note
