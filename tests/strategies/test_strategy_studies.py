@@ -136,6 +136,21 @@ def test_the_bundled_strategies_study_compares_at_the_table_1_budget() -> None:
     assert {planned_budget(a.config.as_dict()) for a in small.arms} == {30 + 10 * 27}
 
 
+def test_the_multi_objective_study_is_the_strategies_ge_arm_but_for_the_strategy() -> None:
+    """Its report reads beside strategies.toml's ge-hybrid arm: run i must be the same run but for
+    the search strategy (grammar, seed, budget, weights), or the comparison would not be fair."""
+    ge = load_study(ROOT / "studies" / "strategies.toml").arms[0]
+    study = load_study(ROOT / "studies" / "multi-objective.toml")
+    assert [(a.name, a.strategy) for a in study.arms] == [
+        ("nsga2-hybrid", "nsga2"),
+        ("map-elites-hybrid", "map-elites"),
+    ]
+    assert study.runs == 30
+    for arm in study.arms:
+        assert arm.grammar.resolve() == ge.grammar.resolve()
+        assert {**arm.config.as_dict(), "strategy": "ge"} == ge.config.as_dict()
+
+
 def test_report_animates_chosen_trade_offs_and_cells(tmp_path: Path) -> None:
     """On the horse, briefly: two GIFs along a front, one of a chosen repertoire cell."""
     config = tmp_path / "run.toml"
