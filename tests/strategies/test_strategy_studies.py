@@ -149,6 +149,10 @@ def test_the_multi_objective_study_is_the_strategies_ge_arm_but_for_the_strategy
     for arm in study.arms:
         assert arm.grammar.resolve() == ge.grammar.resolve()
         assert {**arm.config.as_dict(), "strategy": "ge"} == ge.config.as_dict()
+    # Its follow-up changes NSGA-II's objectives and nothing else.
+    (two,) = load_study(ROOT / "studies" / "nsga2-objectives.toml").arms
+    assert two.config.strategy_settings == {"objectives": ["velocity", "duty_factor"]}
+    assert {**two.config.as_dict(), "strategy_settings": {}, "runs": 30} == study.arms[0].config.as_dict()
 
 
 def test_report_animates_chosen_trade_offs_and_cells(tmp_path: Path) -> None:
