@@ -90,7 +90,8 @@ def test_the_site_builds_strictly_with_every_page(site: Path) -> None:
     for name in ("language", "cli", "evolve", "diagnostics", "plugins", "editors", "results"):
         assert (site / name / "index.html").is_file(), name
     assert "Table 5" in page(site, "results")
-    assert not list(site.glob("results/*/runs"))  # study outputs are not published
+    assert not list(site.rglob("study.json"))  # study outputs are not published
+    assert "NSGA-II" in page(site, "results")
 
 
 def test_the_site_cli_reference_is_generated(site: Path) -> None:
