@@ -106,3 +106,22 @@ def test_render_shows_the_best_walk(arm: Path, tmp_path: Path) -> None:
     best = subprocess.run([*command, "-o", "best.gif"], cwd=tmp_path, capture_output=True, text=True, env=env)
     assert best.returncode == 0, best.stderr
     assert (tmp_path / "walk.gif").read_bytes() != (tmp_path / "best.gif").read_bytes()  # another gait
+
+
+def test_walk_reads_a_real_repertoire(tmp_path: Path) -> None:
+    """MAP-Elites hands back its repertoire: run 12 of the committed arm holds the best walk in its
+    archive.json, and re-scoring it reproduces the recorded evaluation."""
+    source = ARM.parents[3] / "multi-objective/runs/arms/map-elites-hybrid"
+    copy = tmp_path / "arm"
+    copy.mkdir()
+    for name in ("config.toml", "grammar.gg", "manifest.json"):
+        shutil.copy(source / name, copy / name)
+    shutil.copytree(source / "run-012", copy / "run-012")
+    archive = json.loads((copy / "run-012" / "archive.json").read_text())["elites"]
+    walks = [cell for cell in archive if cell["components"]["walk"] == 1.0]
+    result = evaluate("--run", str(copy), "--walk")
+    assert result.exit_code == 0, result.stderr
+    record = json.loads(result.stdout)
+    assert record["components"]["walk"] == 1.0
+    assert record["fitness"] == record["recorded_fitness"] == min(cell["fitness"] for cell in walks)
+    assert record["genome"] == min(walks, key=lambda cell: cell["fitness"])["genome"]
