@@ -95,17 +95,18 @@ class ArmRecord:
 
     @property
     def walk_rate(self) -> float | None:
-        walks = [r.walk for r in self.runs]
-        if any(w is None for w in walks):
-            return None
-        return sum(bool(w) for w in walks) / len(walks)
+        return _share([r.walk for r in self.runs])
 
     @property
     def walk_held_rate(self) -> float | None:
-        held = [r.holds_walk for r in self.runs]
-        if any(h is None for h in held):
-            return None
-        return sum(bool(h) for h in held) / len(held)
+        return _share([r.holds_walk for r in self.runs])
+
+
+def _share(flags: list[bool | None]) -> float | None:
+    """The share of true flags; None if any run's records do not say."""
+    if any(flag is None for flag in flags):
+        return None
+    return sum(bool(flag) for flag in flags) / len(flags)
 
 
 def planned_budget(config: dict[str, Any]) -> int:
