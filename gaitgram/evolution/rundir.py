@@ -27,7 +27,7 @@ from __future__ import annotations
 import hashlib
 import json
 import shutil
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -37,7 +37,7 @@ from gaitgram.analysis import check
 from gaitgram.backends.api import Evaluation, GaitStatus
 from gaitgram.backends.registry import backend_version
 from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, differences, read_toml
-from gaitgram.evolution.engine import ENGINE_REVISION
+from gaitgram.evolution.engine import ENGINE_REVISION, RunState
 from gaitgram.fileio import write_atomically
 from gaitgram.language import parse
 from gaitgram.language.source import SourceText, decode_source
@@ -362,20 +362,25 @@ def best_of_runs(directory: RunDirectory) -> tuple[int, int, Individual]:
 
     Read from the checkpoints (digest-checked), not from ``best.json``, which is a report.
     """
-    from gaitgram.evolution.engine import load_checkpoint
-
-    found = []
-    for run, path in enumerate(directory.checkpoints):
-        if not path.exists():
-            continue
-        state = load_checkpoint(
-            path, directory.pipeline, fingerprint=directory.fingerprints, run=run, with_memory=False
-        )
-        found.append((state.best.fitness, run, state.generation, state.best))
+    found = [(s.best.fitness, run, s.generation, s.best) for run, s in _last_states(directory)]
     if not found:
         raise RunDirectoryError(f"{directory.path} has no checkpoint yet: no run has finished a generation")
     _, run, generation, best = min(found, key=lambda item: (item[0], item[1]))
     return run, generation, best
+
+
+def _last_states(directory: RunDirectory) -> Iterator[tuple[int, RunState]]:
+    """Each run's last checkpoint (runs with none yet are skipped), without strategy memory."""
+    from gaitgram.evolution.engine import load_checkpoint
+
+    for run, path in enumerate(directory.checkpoints):
+        if path.exists():
+            yield (
+                run,
+                load_checkpoint(
+                    path, directory.pipeline, fingerprint=directory.fingerprints, run=run, with_memory=False
+                ),
+            )
 
 
 @dataclass(frozen=True)
@@ -396,17 +401,10 @@ def best_walk_of_runs(directory: RunDirectory) -> KeptGait:
     best is no walk may still hold one. Kept sets are read from their records; whoever shows the
     gait re-scores it and compares with the recorded evaluation.
     """
-    from gaitgram.evolution.engine import load_checkpoint
-
     found: list[KeptGait] = []
-    for run, path in enumerate(directory.checkpoints):
-        if not path.exists():
-            continue
-        state = load_checkpoint(
-            path, directory.pipeline, fingerprint=directory.fingerprints, run=run, with_memory=False
-        )
+    for run, state in _last_states(directory):
         try:
-            members = kept_members(path.parent)
+            members = kept_members(directory.run_dir(run))
         except RecordError as error:
             raise RunDirectoryError(str(error)) from None
         if members is None:
