@@ -31,7 +31,14 @@ from typing import Any
 
 from gaitgram.analysis import CheckResult
 from gaitgram.analysis.facts import GrammarFacts
-from gaitgram.backends.api import WORST_FITNESS, Evaluation, Evaluator, GaitStatus, SettingsError
+from gaitgram.backends.api import (
+    WORST_FITNESS,
+    Evaluation,
+    Evaluator,
+    GaitStatus,
+    SettingsError,
+    VerifyingEvaluator,
+)
 from gaitgram.backends.registry import (
     BackendLoadError,
     BackendNotFound,
@@ -166,8 +173,20 @@ class Pipeline:
         self, genomes: Sequence[Sequence[int]], evaluator: Evaluator, generation: int
     ) -> list[Individual]:
         """Map, build motion, and score ``genomes`` as they would be scored in ``generation``."""
+        return self._scored(genomes, evaluator.evaluate, generation)
+
+    def verify(
+        self, genomes: Sequence[Sequence[int]], evaluator: Evaluator, generation: int
+    ) -> list[Individual]:
+        """As :meth:`evaluate`, checked over the backend's horizon (``VerifyingEvaluator.verify``):
+        the same scores, or unviable for a gait that fails within it. The check the gaits a run
+        keeps must pass; a backend whose evaluator cannot verify is trusted with its evaluation."""
+        score = evaluator.verify if isinstance(evaluator, VerifyingEvaluator) else evaluator.evaluate
+        return self._scored(genomes, score, generation)
+
+    def _scored(self, genomes: Sequence[Sequence[int]], score: Any, generation: int) -> list[Individual]:
         mapped = self.map(genomes)
-        evaluations = evaluator.evaluate(
+        evaluations = score(
             self.motion(mapped, generation), generation=generation, weights=self.weights_at(generation)
         )
         if len(evaluations) != len(genomes):

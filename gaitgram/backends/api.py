@@ -43,22 +43,30 @@ _FROM_PROBLEM = {
 
 @dataclass(frozen=True)
 class Evaluation:
+    """One gait's score. ``components`` are named numbers (the fitness terms, measurements,
+    verdicts); ``cycles`` are measures with one value per scored cycle, for backends that score
+    cycles one by one (a report shows their spread)."""
+
     fitness: float
     status: GaitStatus = GaitStatus.OK
     components: Mapping[str, float] = field(default_factory=dict)
     detail: str | None = None
+    cycles: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
 
     @classmethod
     def unviable(cls, status: GaitStatus, detail: str | None = None) -> Evaluation:
         return cls(WORST_FITNESS, status, {}, detail)
 
     def as_record(self) -> dict[str, Any]:
-        return {
+        record = {
             "fitness": self.fitness,
             "status": self.status.value,
             "components": dict(self.components),
             "detail": self.detail,
         }
+        if self.cycles:  # absent for backends that do not measure cycles: their records are unchanged
+            record["cycles"] = {name: list(values) for name, values in self.cycles.items()}
+        return record
 
 
 def unusable_evaluations(batch: MotionBatch) -> dict[int, Evaluation]:
@@ -68,6 +76,35 @@ def unusable_evaluations(batch: MotionBatch) -> dict[int, Evaluation]:
         for g, problem in enumerate(batch.problems)
         if problem is not None
     }
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """A yes/no judgement a backend makes of each viable gait ("is it a walk?"), declared so that
+    generic layers (runs, reports) can select and count such gaits without knowing the backend.
+
+    ``component`` is the 0/1 component that holds it; ``terms`` are the 0/1 components it is the
+    conjunction of, in the order a report lists them (so a report can say *why* a gait fails it);
+    ``pending`` is the term only a check over the horizon can establish (the evaluator's
+    ``verify``): a gait with every other term is a *candidate*, worth that check.
+    """
+
+    component: str
+    label: str
+    terms: tuple[str, ...] = ()
+    pending: str | None = None
+
+    def holds(self, evaluation: Evaluation) -> bool:
+        return evaluation.status.viable and evaluation.components.get(self.component, 0.0) >= 0.5
+
+    def candidate(self, evaluation: Evaluation) -> bool:
+        """Viable, with every term but the pending one: a verdict that a check could make hold."""
+        return evaluation.status.viable and all(
+            evaluation.components.get(term, 0.0) >= 0.5 for term in self.terms if term != self.pending
+        )
+
+    def failed_terms(self, evaluation: Evaluation) -> tuple[str, ...]:
+        return tuple(term for term in self.terms if evaluation.components.get(term, 0.0) < 0.5)
 
 
 @runtime_checkable
@@ -83,6 +120,18 @@ class Evaluator(Protocol):
     ) -> list[Evaluation]: ...
 
     def close(self) -> None: ...
+
+
+@runtime_checkable
+class VerifyingEvaluator(Evaluator, Protocol):
+    """An evaluator that can also check gaits over a longer horizon than ``evaluate`` scores: the
+    check the gaits a run keeps must pass. ``verify`` returns the same evaluation as ``evaluate``
+    (the same fitness), or an unviable one if the gait fails within the horizon, with what the
+    check established (the backend's ``Verdict.pending`` term)."""
+
+    def verify(
+        self, batch: MotionBatch, *, generation: int = 0, weights: Mapping[str, float] | None = None
+    ) -> list[Evaluation]: ...
 
 
 class SettingsError(ValueError):

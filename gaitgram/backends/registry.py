@@ -17,7 +17,7 @@ from functools import cache
 from importlib.metadata import entry_points
 from typing import Any
 
-from gaitgram.backends.api import SettingsError
+from gaitgram.backends.api import SettingsError, Verdict
 from gaitgram.backends.catalogue import JointCatalogue
 
 __all__ = [
@@ -68,6 +68,9 @@ class BackendSpec:
     * ``descriptors`` names measured components that tell gaits apart, each with
       the range it usually falls in, for a quality-diversity archive
       (``map-elites``) that is not told which to use; None: a run must name them.
+    * ``verdict`` declares a yes/no judgement of each gait (``mujoco-horse``: "is it
+      a walk?") that reports count and ``--walk`` selects by; None: the backend
+      judges none.
     """
 
     name: str
@@ -82,6 +85,7 @@ class BackendSpec:
     cycle_frequencies: tuple[float, float] | None = None
     objectives: Callable[[Mapping[str, Any]], tuple[str, ...]] | None = None
     descriptors: Mapping[str, tuple[float, float]] | None = None
+    verdict: Verdict | None = None
 
     def checked_settings(self, settings: Mapping[str, Any]) -> dict[str, Any]:
         """``settings`` checked and normalised; :class:`SettingsError` names the bad key."""

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from rich.console import Console
@@ -80,8 +80,8 @@ def command(
         )
         pipeline = chosen.pipeline
         evaluator = pipeline.load_evaluator()
-        try:
-            (scored,) = pipeline.evaluate([chosen.genome], evaluator, chosen.generation)
+        try:  # as a run keeps a gait: checked over the backend's horizon
+            (scored,) = pipeline.verify([chosen.genome], evaluator, chosen.generation)
         finally:
             evaluator.close()
     except (SelectionError, PipelineError) as error:
@@ -109,6 +109,12 @@ def command(
         for key, value in evaluation.components.items():
             table.add_row(key, f"{value:.6g}")
         out.print(table)
+        if evaluation.cycles:
+            out.print(_cycles_table(evaluation.cycles))
+        verdict = pipeline.spec.verdict
+        if verdict is not None and evaluation.status.viable and not verdict.holds(evaluation):
+            missing = ", ".join(verdict.failed_terms(evaluation))
+            out.print(f"not a {verdict.label}: {missing}", markup=False)
         err.print(chosen.describe, markup=False)
         if evaluation.detail:
             out.print(evaluation.detail, markup=False)
@@ -124,6 +130,18 @@ def command(
         raise typer.Exit(2)
     if not evaluation.status.viable:
         raise typer.Exit(1)
+
+
+def _cycles_table(cycles: dict[str, tuple[float, ...]] | Any) -> Table:
+    """The scored cycles side by side, so their spread shows."""
+    count = max(len(values) for values in cycles.values())
+    table = Table(title="scored cycles", show_header=True)
+    table.add_column("measure")
+    for c in range(count):
+        table.add_column(f"cycle {c + 1}", justify="right")
+    for name, values in cycles.items():
+        table.add_row(name, *(f"{v:.4g}" for v in values))
+    return table
 
 
 def _settings(items: list[str] | None) -> dict[str, object]:

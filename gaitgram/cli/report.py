@@ -15,6 +15,7 @@ from gaitgram.strategies.gallery import GalleryError
 from gaitgram.study.report import (
     ArmRecord,
     ReportError,
+    check_comparable,
     load_arm,
     load_study_arms,
     write_gallery,
@@ -85,6 +86,7 @@ def command(
         require_extra("PIL", "animations")
     try:
         arms, title = arms_of(directories)
+        check_comparable(arms)  # before anything is made
         out.mkdir(parents=True, exist_ok=True)
         written = write_study_report(arms, out, title=title, force=force, chosen=chosen, gaits=gaits)
         if gaits or chosen:

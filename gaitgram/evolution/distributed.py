@@ -55,9 +55,13 @@ def evaluate_chunk(
     batch: MotionBatch,
     generation: int,
     weights: Mapping[str, float] | None,
+    method: str = "evaluate",
 ) -> list[Evaluation]:
+    """``evaluate`` (or ``verify``) a chunk on the worker's backend; a backend that cannot verify
+    is trusted with its evaluation, as locally."""
     evaluator = _worker_evaluator(backend, settings_items)
-    return evaluator.evaluate(batch, generation=generation, weights=weights)
+    score = getattr(evaluator, method, evaluator.evaluate)
+    return score(batch, generation=generation, weights=weights)
 
 
 class DaskEvaluator:
@@ -102,6 +106,17 @@ class DaskEvaluator:
     def evaluate(
         self, batch: MotionBatch, *, generation: int = 0, weights: Mapping[str, float] | None = None
     ) -> list[Evaluation]:
+        return self._spread("evaluate", batch, generation, weights)
+
+    def verify(
+        self, batch: MotionBatch, *, generation: int = 0, weights: Mapping[str, float] | None = None
+    ) -> list[Evaluation]:
+        """The backend's check over its horizon, on the workers (see ``VerifyingEvaluator``)."""
+        return self._spread("verify", batch, generation, weights)
+
+    def _spread(
+        self, method: str, batch: MotionBatch, generation: int, weights: Mapping[str, float] | None
+    ) -> list[Evaluation]:
         bounds = np.array_split(np.arange(len(batch)), min(self.chunks, max(len(batch), 1)))
         futures = [
             self.client.submit(
@@ -111,6 +126,7 @@ class DaskEvaluator:
                 _slice(batch, part),
                 generation,
                 dict(weights) if weights else None,
+                method,
                 pure=False,
                 retries=2,
             )

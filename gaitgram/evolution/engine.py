@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from gaitgram import jsonio
-from gaitgram.backends.api import Evaluation, Evaluator, GaitStatus
+from gaitgram.backends.api import Evaluation, Evaluator, GaitStatus, VerifyingEvaluator
 from gaitgram.fileio import write_atomically
 from gaitgram.ge.initialisation import ramped_population
 from gaitgram.ge.operators import Genome, elite, int_flip_mutation, one_point_crossover, tournament
@@ -61,12 +61,16 @@ __all__ = [
     "save_checkpoint",
     "scores_change",
     "step",
+    "verify_kept",
 ]
 
 #: Bumped whenever the same pipeline and seed could give a different run (operators, selection,
 #: initialisation, statistics). Run directories record it; another revision is not resumed.
 ENGINE_REVISION = 1
 CHECKPOINT_VERSION = 2
+#: Candidates for the backend's verdict (walks) checked over its horizon per generation, best
+#: first, until one passes: bounds the cost when candidates fail the check.
+MAX_CANDIDATE_CHECKS = 3
 #: Longest genome a checkpoint may hold: far beyond what initialisation and crossover make.
 MAX_CHECKPOINT_GENOME = 10_000_000
 
@@ -418,7 +422,22 @@ def _evaluation(record: Any, index: int) -> Evaluation:
         f"individual {index}'s components are not finite numbers",
     )
     _expect(detail is None or isinstance(detail, str), f"individual {index}'s detail is not text")
-    return Evaluation(float(fitness), GaitStatus(status), dict(components), detail)
+    cycles = record.get("cycles", {})
+    _expect(
+        isinstance(cycles, dict)
+        and all(
+            isinstance(k, str) and isinstance(v, list) and all(_is_number(x) and math.isfinite(x) for x in v)
+            for k, v in cycles.items()
+        ),
+        f"individual {index}'s per-cycle measures are not lists of finite numbers",
+    )
+    return Evaluation(
+        float(fitness),
+        GaitStatus(status),
+        dict(components),
+        detail,
+        {k: tuple(float(x) for x in v) for k, v in cycles.items()},
+    )
 
 
 def _stats(record: Any, index: int) -> GenerationStats:
@@ -446,11 +465,13 @@ def _stats(record: Any, index: int) -> GenerationStats:
 
 
 def advance(strategy: Strategy, context: RunContext, state: RunState, evaluator: Evaluator) -> RunState:
-    """One generation of any strategy: ask, evaluate through the run's pipeline, tell."""
+    """One generation of any strategy: ask, evaluate through the run's pipeline, check what it would
+    keep over the backend's horizon, tell."""
     pipeline = context.pipeline
     generation = state.generation + 1
     genomes = strategy.ask(context, state)
     evaluated = pipeline.evaluate(genomes, evaluator, generation)
+    evaluated = verify_kept(strategy, context, state, evaluated, evaluator)
     population = strategy.tell(context, state, evaluated)
     if len(population) != pipeline.config.population:
         raise StrategyError(
@@ -459,6 +480,57 @@ def advance(strategy: Strategy, context: RunContext, state: RunState, evaluator:
         )
     history = [*state.history, generation_stats(generation, population, len(genomes))]
     return RunState(generation, population, state.rng, history, state.memory)
+
+
+def verify_kept(
+    strategy: Strategy,
+    context: RunContext,
+    state: RunState,
+    evaluated: list[Individual],
+    evaluator: Evaluator,
+) -> list[Individual]:
+    """``evaluated`` with what the strategy would keep, and the best candidate for the backend's
+    verdict (the best walk), checked over the backend's horizon: what fails is unviable before the
+    strategy is told, and the next best is checked in its place. So a run's best, front and
+    repertoire, and the walk ``--walk`` hands back, have all passed the check. Candidates for the
+    verdict are checked at most ``MAX_CANDIDATE_CHECKS`` a generation."""
+    if not isinstance(evaluator, VerifyingEvaluator):
+        return evaluated
+    pipeline = context.pipeline
+    generation = state.generation + 1
+    found = list(evaluated)
+    checked: set[int] = set()
+
+    def check(indices: list[int]) -> None:
+        for k, individual in zip(
+            indices, pipeline.verify([found[k].genome for k in indices], evaluator, generation), strict=True
+        ):
+            found[k] = individual
+            checked.add(k)
+
+    def kept() -> set[int]:
+        viable = [k for k, i in enumerate(found) if i.evaluation.status.viable]
+        best = {min(viable, key=lambda k: (found[k].fitness, k))} if viable else set()
+        return best | set(strategy.keeps(context, state, found))
+
+    while pending := sorted(kept() - checked):
+        check(pending)
+    verdict = pipeline.spec.verdict
+    if verdict is not None:
+        candidates = sorted(
+            (k for k, i in enumerate(found) if verdict.candidate(i.evaluation)),
+            key=lambda k: (found[k].fitness, k),
+        )
+        tries = 0
+        for k in candidates:
+            if k not in checked:
+                if tries == MAX_CANDIDATE_CHECKS:
+                    break
+                check([k])
+                tries += 1
+            if verdict.holds(found[k].evaluation):
+                break
+    return found
 
 
 def begin(strategy: Strategy, context: RunContext, evaluator: Evaluator) -> RunState:

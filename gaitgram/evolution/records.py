@@ -48,6 +48,8 @@ def best_record(pipeline: Pipeline, state: RunState) -> dict[str, Any]:
         "fitness": best.fitness,
         "status": best.evaluation.status.value,
         "components": dict(best.evaluation.components),
+        # Per scored cycle, for backends that measure cycles one by one: their spread.
+        "cycles": {name: list(values) for name, values in best.evaluation.cycles.items()},
         "detail": best.evaluation.detail,
         "derivation": ascii_tree(derivation),
     }

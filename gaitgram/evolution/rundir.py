@@ -401,6 +401,12 @@ def best_walk_of_runs(directory: RunDirectory) -> KeptGait:
     best is no walk may still hold one. Kept sets are read from their records; whoever shows the
     gait re-scores it and compares with the recorded evaluation.
     """
+    verdict = directory.pipeline.spec.verdict
+    if verdict is None:
+        raise RunDirectoryError(
+            f"backend {directory.pipeline.backend!r} judges no gait a walk, so {directory.path} has no "
+            "best walk to show; drop --walk"
+        )
     found: list[KeptGait] = []
     for run, state in _last_states(directory):
         try:
@@ -411,20 +417,20 @@ def best_walk_of_runs(directory: RunDirectory) -> KeptGait:
             kept = [KeptGait(run, state.generation, i.genome, i.evaluation) for i in state.population]
         else:
             kept = [_kept_gait(m, run, state.generation) for m in members]
-        found += [k for k in kept if k.evaluation.status is GaitStatus.OK and _walks(k.evaluation)]
+        found += [k for k in kept if verdict.holds(k.evaluation)]
     if not found:
         raise RunDirectoryError(
-            f"no run in {directory.path} hands back a walk (a viable gait within the walk window of "
-            "the target speed and duty factor); its best gaits are shown without --walk"
+            f"no run in {directory.path} hands back a {verdict.label} (a gait that backend "
+            f"{directory.pipeline.backend!r} judges one, checked over its horizon); its best gaits "
+            f"are shown without --{verdict.label}"
         )
     return min(found, key=lambda k: (k.evaluation.fitness, k.run))
 
 
-def _walks(evaluation: Evaluation) -> bool:
-    return evaluation.components.get("walk", 0.0) >= 0.5
-
-
 def _kept_gait(member: dict[str, Any], run: int, generation: int) -> KeptGait:
     """From a record :func:`kept_members` checked."""
-    evaluation = Evaluation(float(member["fitness"]), GaitStatus.OK, dict(member["components"]))
+    cycles = {name: tuple(values) for name, values in member.get("cycles", {}).items()}
+    evaluation = Evaluation(
+        float(member["fitness"]), GaitStatus.OK, dict(member["components"]), cycles=cycles
+    )
     return KeptGait(run, generation, tuple(member["genome"]), evaluation)

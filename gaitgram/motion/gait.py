@@ -63,6 +63,17 @@ class MotionBatch:
             None if self.frequencies is None else self.frequencies[start:stop],
         )
 
+    def take(self, indices: Sequence[int]) -> MotionBatch:
+        """The gaits at ``indices``, in that order, as a batch of their own."""
+        rows = np.asarray(indices, dtype=np.intp)
+        return MotionBatch(
+            self.joints,
+            self.angles[rows],
+            tuple(self.problems[i] for i in rows),
+            tuple(self.details[i] for i in rows),
+            None if self.frequencies is None else self.frequencies[rows],
+        )
+
     def __len__(self) -> int:
         return self.angles.shape[0]
 

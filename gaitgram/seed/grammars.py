@@ -58,10 +58,11 @@ MAX_TERMS = 3
 FUNCTION_AMPLITUDE = 20.0
 #: Sec. 4.3's offsets: within this many degrees of the seed's.
 OFFSET_REACH = 5.0
-#: The evolved cycle frequency (Hz): from a slow walk up to where the seed's stride would reach
-#: the target speed; the middle value is the target frequency, which the seed genome picks.
+#: The evolved cycle frequency (Hz): from below the slowest quartile of real walks (the DLC_Horse
+#: strides of 1.33 s, 0.75 Hz) to as far above the target; the middle value is the target
+#: frequency, which the seed genome picks.
 TARGET_FREQUENCY = walk_targets(DEFAULT_FROUDE, NOMINAL_HIP_HEIGHT).stride_frequency
-FREQUENCY_LOW = 0.3
+FREQUENCY_LOW = 0.6
 FREQUENCY_STEP = 0.05
 #: Phases at which curve bounds are worked out (a multiple of ``gaitgram test``'s 256).
 BOUND_SAMPLES = 2048

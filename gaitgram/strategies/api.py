@@ -95,6 +95,14 @@ class Strategy(ABC):
     def tell(self, context: RunContext, state: RunState, evaluated: list[Individual]) -> list[Individual]:
         """Learn from ``evaluated`` (the asked genomes, in order) and return the next population."""
 
+    def keeps(self, context: RunContext, state: RunState, evaluated: list[Individual]) -> list[int]:
+        """Which of ``evaluated`` (the asked genomes, scored) this strategy would hand back if told
+        them now, beyond the best of them: the new members of a front, the new elites of a
+        repertoire. The run checks them, and the best, over the backend's horizon first (and asks
+        again if one fails), so that nothing a run hands back has fallen within it. By default
+        none: an elitist strategy hands back its best."""
+        return []
+
     def records(self, context: RunContext, state: RunState) -> dict[str, Any]:
         """JSON files for the run directory beside ``best.json`` (name -> content), rewritten after
         every generation; derived from the state, so they always agree with the checkpoint."""

@@ -70,6 +70,11 @@ def _is_gait(member: Any) -> bool:
         and all(number(v) for v in member["components"].values())
         and isinstance(member.get("genome"), list)
         and all(isinstance(c, int) and not isinstance(c, bool) for c in member["genome"])
+        and isinstance(member.get("cycles", {}), dict)
+        and all(
+            isinstance(values, list) and all(number(v) for v in values)
+            for values in member.get("cycles", {}).values()
+        )
     )
 
 

@@ -139,6 +139,25 @@ class MapElites(Strategy):
         )
         return elitist(state, context.pipeline, evaluated)[0]
 
+    def keeps(self, context: RunContext, state: RunState, evaluated: list[Individual]) -> list[int]:
+        """The new gaits that would take a cell: the best new gait in its cell, if it beats the
+        cell's elite (ties keep the first, as the archive does)."""
+        memory: ArchiveMemory = state.memory
+        new = [k for k, i in enumerate(evaluated) if i.evaluation.status is GaitStatus.OK]
+        if not new:
+            return []
+        measures = np.array([[component(evaluated[k], d.name) for d in memory.descriptors] for k in new])
+        cells = memory.archive.index_of(measures)
+        occupied, elites = memory.archive.retrieve(measures)
+        taken: dict[int, int] = {}
+        for k, cell, held, incumbent in zip(new, cells, occupied, elites["objective"], strict=True):
+            objective = -evaluated[k].fitness
+            if held and objective <= incumbent:
+                continue
+            if int(cell) not in taken or objective > -evaluated[taken[int(cell)]].fitness:
+                taken[int(cell)] = k
+        return sorted(taken.values())
+
     def records(self, context: RunContext, state: RunState) -> dict[str, Any]:
         return {"archive.json": archive_record(state.generation, state.memory)}
 
@@ -157,6 +176,7 @@ def archive_record(generation: int, memory: ArchiveMemory) -> dict[str, Any]:
                 "measures": [float(m) for m in measures],
                 "fitness": individual.fitness,
                 "components": dict(individual.evaluation.components),
+                "cycles": {name: list(values) for name, values in individual.evaluation.cycles.items()},
                 "genome": list(individual.genome),
                 "phenotype": individual.phenotype,
             }

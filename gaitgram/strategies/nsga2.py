@@ -113,15 +113,38 @@ class Nsga2(Strategy):
         memory.algorithm.tell(infills=infills)
         return [slot.get("individual") for slot in memory.algorithm.pop]
 
+    def keeps(self, context: RunContext, state: RunState, evaluated: list[Individual]) -> list[int]:
+        """The new gaits no member of the current front and no other new gait dominates."""
+        memory: NsgaMemory = state.memory
+        new = [k for k, i in enumerate(evaluated) if i.evaluation.status is GaitStatus.OK]
+        front = [] if state.generation < 0 else _front(memory)
+        points = np.array(
+            [objective_values(i, memory.objectives) for i in front]
+            + [objective_values(evaluated[k], memory.objectives) for k in new],
+            dtype=float,
+        ).reshape(-1, len(memory.objectives))
+        return [k for j, k in enumerate(new) if not _dominated(points, len(front) + j)]
+
     def records(self, context: RunContext, state: RunState) -> dict[str, Any]:
         memory: NsgaMemory = state.memory
-        ranks = memory.algorithm.pop.get("rank")
-        front = [
-            slot.get("individual")
-            for slot, rank in zip(memory.algorithm.pop, ranks, strict=True)
-            if rank == 0 and slot.get("individual").evaluation.status is GaitStatus.OK
-        ]
-        return {"front.json": front_record(state.generation, memory.objectives, front)}
+        return {"front.json": front_record(state.generation, memory.objectives, _front(memory))}
+
+
+def _front(memory: NsgaMemory) -> list[Individual]:
+    """The viable members of NSGA-II's first front."""
+    ranks = memory.algorithm.pop.get("rank")
+    return [
+        slot.get("individual")
+        for slot, rank in zip(memory.algorithm.pop, ranks, strict=True)
+        if rank == 0 and slot.get("individual").evaluation.status is GaitStatus.OK
+    ]
+
+
+def _dominated(points: np.ndarray, index: int) -> bool:
+    """Whether some other point is no worse in every objective and better in one."""
+    others = np.delete(points, index, axis=0)
+    point = points[index]
+    return bool(np.any(np.all(others <= point, axis=1) & np.any(others < point, axis=1)))
 
 
 def objective_values(individual: Individual, objectives: tuple[str, ...]) -> list[float]:
@@ -141,6 +164,7 @@ def front_record(generation: int, objectives: tuple[str, ...], front: list[Indiv
                 "objectives": objective_values(i, objectives),
                 "fitness": i.fitness,
                 "components": dict(i.evaluation.components),
+                "cycles": {name: list(values) for name, values in i.evaluation.cycles.items()},
                 "genome": list(i.genome),
                 "phenotype": i.phenotype,
             }

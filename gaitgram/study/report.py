@@ -76,6 +76,9 @@ class ArmRecord:
     generations: int
     population: int
     runs: tuple[RunRecord, ...]
+    #: What scored the runs: the backend and its version (its fitness revision), from the manifest.
+    backend: str = ""
+    backend_version: str = ""
 
     @property
     def final_best(self) -> np.ndarray:
@@ -127,6 +130,11 @@ def load_arm(path: Path, name: str | None = None, strategy: str | None = None) -
     runs = []
     for run in range(int(config.get("runs", 1))):
         runs.append(_load_run(path / f"run-{run:03d}", int(config["generations"])))
+    try:
+        manifest = json.loads((path / "manifest.json").read_text(encoding="utf-8"))
+        backend, version = str(manifest["backend"]), str(manifest["backend_version"])
+    except (OSError, ValueError, KeyError, TypeError) as error:
+        raise ReportError(f"{path}: cannot read the run's manifest.json: {error}") from None
     return ArmRecord(
         name or path.name,
         strategy or str(config.get("strategy", "ge")),
@@ -135,6 +143,8 @@ def load_arm(path: Path, name: str | None = None, strategy: str | None = None) -
         int(config["generations"]),
         int(config["population"]),
         tuple(runs),
+        backend,
+        version,
     )
 
 
@@ -193,6 +203,18 @@ def load_study_arms(directory: Path) -> list[ArmRecord]:
     return [
         load_arm(directory / "arms" / a["name"], a["name"], a.get("strategy", "ge")) for a in manifest["arms"]
     ]
+
+
+def check_scoring(arms: list[ArmRecord]) -> None:
+    """Refuse arms scored by different backends or backend versions (another fitness revision, model
+    or simulator): their fitness values measure different things."""
+    versions = {(a.backend, a.backend_version) for a in arms}
+    if len(versions) > 1:
+        listing = "; ".join(f"{a.name}: {a.backend} {a.backend_version}" for a in arms)
+        raise ReportError(
+            f"these arms were scored differently ({listing}); their fitness values do not compare in one "
+            "table: report them separately, or run them again with one gaitgram"
+        )
 
 
 def check_budgets(arms: list[ArmRecord]) -> None:
@@ -255,6 +277,8 @@ class StudyReport:
 
     def as_json(self) -> dict[str, Any]:
         return {
+            "backend": self.arms[0].backend,
+            "backend_version": self.arms[0].backend_version,
             "arms": [
                 {
                     "name": s.name,
@@ -292,10 +316,17 @@ class StudyReport:
         }
 
 
+def check_comparable(arms: list[ArmRecord]) -> None:
+    """Refuse arms whose numbers do not compare in one table: scored differently, or at different
+    budgets."""
+    check_scoring(arms)
+    check_budgets(arms)
+
+
 def build_report(arms: list[ArmRecord]) -> StudyReport:
     if not arms:
         raise ReportError("nothing to report: no arms")
-    check_budgets(arms)
+    check_comparable(arms)
     names = [a.name for a in arms]
     if len(set(names)) != len(names):
         raise ReportError(f"two arms are called {next(n for n in names if names.count(n) > 1)!r}")

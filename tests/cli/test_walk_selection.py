@@ -1,8 +1,9 @@
 """``evaluate``/``render --run DIR --walk``: the best walk a run hands back, which the weighted
 fitness may rank below its best gait, re-scored through the run's own pipeline.
 
-The runs are the committed CMA-ES arm of docs/results/strategies: none of its best gaits is a walk,
-yet most of its final populations hold one.
+The runs are made here, short, on the horse: GE on the hybrid grammar under the paper's weights
+(seed 0: its best gait is no walk, its final population holds one), MAP-Elites and NSGA-II (seed 2:
+their repertoire and front hold walks).
 """
 
 from __future__ import annotations
@@ -20,23 +21,50 @@ from typer.testing import CliRunner
 from conftest import GRAMMARS
 from gaitgram.cli import app
 
-ARM = Path(__file__).resolve().parents[2] / "docs/results/strategies/runs/arms/cma-es-numerical"
 runner = CliRunner()
-pytestmark = pytest.mark.skipif(
-    not ARM.is_dir(), reason="the committed study runs are not in this source tree (the sdist omits them)"
+PAPER_WEIGHTS = (
+    'backend = "mujoco-horse"\n[backend_settings]\n'
+    "weights = { velocity = 1.0, duty_factor = 1.0, stride = 1.0, frequency = 0.0, energy = 1.0 }\n"
 )
 
 
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    base = tmp_path_factory.mktemp("walks")
+    (base / "paper.toml").write_text(PAPER_WEIGHTS)
+    made = {
+        "ge": ("ge", 0, ["-c", str(base / "paper.toml")]),
+        "map-elites": ("map-elites", 2, []),
+        "nsga2": ("nsga2", 2, []),
+    }
+    for name, (strategy, seed, extra) in made.items():
+        result = runner.invoke(
+            app,
+            [
+                "evolve",
+                str(GRAMMARS / "hybrid.gg"),
+                *extra,
+                "--generations",
+                "2",
+                "--population",
+                "16",
+                "--seed",
+                str(seed),
+                "--strategy",
+                strategy,
+                "-o",
+                str(base / name),
+                "-q",
+            ],
+        )
+        assert result.exit_code == 0, result.output
+    return base
+
+
 @pytest.fixture
-def arm(tmp_path: Path) -> Path:
-    """Runs 5-7 of the arm: 5 has the best gait and no walk, 6 the best walk (0.3093)."""
-    copy = tmp_path / "arm"
-    copy.mkdir()
-    for name in ("config.toml", "grammar.gg", "manifest.json"):
-        shutil.copy(ARM / name, copy / name)
-    for run in (5, 6, 7):
-        shutil.copytree(ARM / f"run-{run:03d}", copy / f"run-{run:03d}")
-    return copy
+def arm(runs: Path, tmp_path: Path) -> Path:
+    """A copy of the GE run, free to edit."""
+    return Path(shutil.copytree(runs / "ge", tmp_path / "arm"))
 
 
 def evaluate(*args: str):
@@ -55,33 +83,35 @@ def test_walk_picks_the_best_walk_where_the_best_gait_is_none(arm: Path) -> None
     assert walk.exit_code == 0, walk.stderr
     record = json.loads(walk.stdout)
     assert record["components"]["walk"] == 1.0
-    assert record["fitness"] == record["recorded_fitness"] == pytest.approx(0.309275, abs=1e-6)
+    assert record["components"]["checked_cycles"] == 20.0
+    assert record["fitness"] == record["recorded_fitness"]
     assert record["fitness"] > json.loads(best.stdout)["fitness"]  # ranked below the best gait
-    walkers = [g for g in population(arm, 6) if g["evaluation"]["components"]["walk"] == 1.0]
+    walkers = [g for g in population(arm, 0) if g["evaluation"]["components"]["walk"] == 1.0]
     assert [record["genome"]] == [g["genome"] for g in walkers]
     table = runner.invoke(app, ["evaluate", "--run", str(arm), "--walk"])
-    assert "run 6, best walk, generation 50" in table.stderr
+    assert "run 0, best walk, generation 2" in table.stderr
 
 
 def test_a_kept_front_is_what_the_run_hands_back(arm: Path) -> None:
-    gaits = population(arm, 6)
+    gaits = population(arm, 0)
     walker = next(g for g in gaits if g["evaluation"]["components"]["walk"] == 1.0)
     others = [g for g in gaits if g["evaluation"]["components"]["walk"] == 0.0]
 
     def keep(members: list[dict]) -> None:
         front = [{"genome": g["genome"], **g["evaluation"]} for g in members]
-        (arm / "run-006" / "front.json").write_text(json.dumps({"objectives": [], "front": front}))
+        (arm / "run-000" / "front.json").write_text(json.dumps({"objectives": [], "front": front}))
 
-    keep(others[:3])  # run 6's population holds a walk, but its front does not
+    keep(others[:3])  # the population holds a walk, but this front does not
     refused = evaluate("--run", str(arm), "--walk")
     assert refused.exit_code == 2
     assert "hands back a walk" in refused.stderr
-    walker["evaluation"]["fitness"] = 0.25  # a record edited by hand is caught by re-scoring
+    recorded = walker["evaluation"]["fitness"]
+    walker["evaluation"]["fitness"] = recorded / 2  # a record edited by hand is caught by re-scoring
     keep([walker])
     tampered = evaluate("--run", str(arm), "--walk")
     assert tampered.exit_code == 2
-    assert "re-scoring gives fitness 0.309" in tampered.stderr
-    (arm / "run-006" / "front.json").write_text(json.dumps({"front": [{"components": {}, "genome": "x"}]}))
+    assert f"re-scoring gives fitness {recorded!r}" in tampered.stderr
+    (arm / "run-000" / "front.json").write_text(json.dumps({"front": [{"components": {}, "genome": "x"}]}))
     malformed = evaluate("--run", str(arm), "--walk")
     assert malformed.exit_code == 2
     assert "front.json" in malformed.stderr
@@ -105,26 +135,25 @@ def test_render_shows_the_best_walk(arm: Path, tmp_path: Path) -> None:
         [*command, "--walk", "-o", "walk.gif"], cwd=tmp_path, capture_output=True, text=True, env=env
     )
     assert walk.returncode == 0, walk.stderr
-    assert "run 6, best walk" in walk.stderr
+    assert "run 0, best walk" in walk.stderr
     best = subprocess.run([*command, "-o", "best.gif"], cwd=tmp_path, capture_output=True, text=True, env=env)
     assert best.returncode == 0, best.stderr
     assert (tmp_path / "walk.gif").read_bytes() != (tmp_path / "best.gif").read_bytes()  # another gait
 
 
-def test_walk_reads_a_real_repertoire(tmp_path: Path) -> None:
-    """MAP-Elites hands back its repertoire: run 12 of the committed arm holds the best walk in its
-    archive.json, and re-scoring it reproduces the recorded evaluation."""
-    source = ARM.parents[3] / "multi-objective/runs/arms/map-elites-hybrid"
-    copy = tmp_path / "arm"
-    copy.mkdir()
-    for name in ("config.toml", "grammar.gg", "manifest.json"):
-        shutil.copy(source / name, copy / name)
-    shutil.copytree(source / "run-012", copy / "run-012")
-    archive = json.loads((copy / "run-012" / "archive.json").read_text())["elites"]
-    walks = [cell for cell in archive if cell["components"]["walk"] == 1.0]
-    result = evaluate("--run", str(copy), "--walk")
+@pytest.mark.parametrize(
+    ("name", "file", "key"), [("map-elites", "archive.json", "elites"), ("nsga2", "front.json", "front")]
+)
+def test_walk_reads_a_real_repertoire_and_front(runs: Path, name: str, file: str, key: str) -> None:
+    """MAP-Elites hands back its repertoire and NSGA-II its front: the best walk in them, re-scored,
+    reproduces the recorded evaluation; every member was checked over the horizon."""
+    kept = json.loads((runs / name / "run-000" / file).read_text())[key]
+    assert all(member["components"]["checked_cycles"] == 20.0 for member in kept)
+    walks = [member for member in kept if member["components"]["walk"] == 1.0]
+    assert walks
+    result = evaluate("--run", str(runs / name), "--walk")
     assert result.exit_code == 0, result.stderr
     record = json.loads(result.stdout)
     assert record["components"]["walk"] == 1.0
-    assert record["fitness"] == record["recorded_fitness"] == min(cell["fitness"] for cell in walks)
-    assert record["genome"] == min(walks, key=lambda cell: cell["fitness"])["genome"]
+    assert record["fitness"] == record["recorded_fitness"] == min(member["fitness"] for member in walks)
+    assert record["genome"] == min(walks, key=lambda member: member["fitness"])["genome"]

@@ -201,7 +201,7 @@ def test_a_bad_config_is_refused_before_a_run_directory_exists(
     ("settings", "message"),
     [
         ("[backend_settings]\nfrode = 0.4\n", "frode: unknown mujoco-horse setting; did you mean froude?"),
-        ("[backend_settings]\nfroude = 0.06\ncycles = 100\n", "at most 60 s are allowed"),
+        ("[backend_settings]\nfroude = 0.06\nhorizon_cycles = 100\n", "at most 120 s are allowed"),
         ("[backend_settings]\nfroude = inf\n", "froude"),
         ("[backend_settings.weights]\nvelocty = 1.0\n", "weights.velocty: no fitness component"),
         ("[[weight_schedule]]\nstart = 0\nweights = { strides = 2.0 }\n", "did you mean stride?"),

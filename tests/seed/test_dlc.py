@@ -139,7 +139,22 @@ def test_the_seed_agrees_with_the_measured_walks() -> None:
     ]:
         assert lands[hoof]["median"] == pytest.approx(WALK_PHASE_OFFSETS[limb], abs=0.03)
     assert measured["duty_factor"]["median"] == pytest.approx(walk_targets().duty_factor, abs=0.06)
+    # Walk criterion v2 judges footfalls and duty factor by these very measurements.
+    from gaitgram.backends.mujoco_horse.task import WALK_DUTY_LOW, WALK_FOOTFALLS
+
+    for hoof, limb in [
+        ("LeftFrontHoof", "fore_left"),
+        ("RightHindHoof", "hind_right"),
+        ("RightFrontHoof", "fore_right"),
+    ]:
+        assert WALK_FOOTFALLS[limb] == pytest.approx(lands[hoof]["median"], abs=0.001)
+    assert measured["duty_factor"]["iqr"][0] == WALK_DUTY_LOW
+    # The refitted seed swings its fetlocks more than the real walks' mean curve, within about 15 % of
+    # their median range in a single stride (the model's limbs need larger joint excursions for a
+    # stride of the real length: docs/fitness.md).
     seed = load_seed()
     for joint in ("fetlock_fore", "fetlock_hind"):
         seed_range = float(np.ptp(seed.angles[joint]))
-        assert seed_range == pytest.approx(measured["curves"][joint]["range_of_motion"], rel=0.1), joint
+        curve = measured["curves"][joint]
+        assert curve["range_of_motion"] < seed_range, joint
+        assert seed_range == pytest.approx(curve["median_stride_range"], rel=0.15), joint

@@ -218,6 +218,8 @@ def write_arm(path: Path, runs: list[dict]) -> Path:
     final population's mean walk and, optionally, a Pareto front or repertoire."""
     path.mkdir(parents=True)
     (path / "config.toml").write_text(f"generations = 1\npopulation = 4\nelite = 1\nruns = {len(runs)}\n")
+    manifest = {"backend": "mujoco-horse", "backend_version": "by hand"}
+    (path / "manifest.json").write_text(json.dumps(manifest))
     for index, run in enumerate(runs):
         directory = path / f"run-{index:03d}"
         directory.mkdir()

@@ -9,12 +9,14 @@ from importlib.metadata import PackageNotFoundError, version
 from importlib.resources import files
 from typing import Any
 
+from gaitgram.backends.api import Verdict
 from gaitgram.backends.catalogue import load_catalogue
 from gaitgram.backends.mujoco_horse.settings import WEIGHT_NAMES, HorseSettings
 from gaitgram.backends.mujoco_horse.task import (
     CYCLE_FREQUENCIES,
     DEFAULT_WEIGHTS,
     TASK_REVISION,
+    WALK_COMPONENTS,
     unviable_fitness,
 )
 from gaitgram.backends.registry import BackendSpec
@@ -68,4 +70,5 @@ BACKEND = BackendSpec(
     objectives=scored_components,
     # From a slow walk to a fast trot: speed (m/s) and the share of the cycle a hoof is down.
     descriptors={"measured_velocity": (0.0, 3.0), "measured_duty_factor": (0.3, 0.9)},
+    verdict=Verdict("walk", "walk", WALK_COMPONENTS, "walk_sustained"),
 )

@@ -1,11 +1,22 @@
 """The ``mujoco-horse`` evaluator: a generation's gaits as batches of MuJoCo rollouts, in chunks.
 
+The physics half of the dm_control split: this module steps MuJoCo and records,
+per step, what the task measures (:class:`~gaitgram.backends.mujoco_horse.measures.Recording`);
+the task (:mod:`~gaitgram.backends.mujoco_horse.task`) turns recordings into
+measures, a fitness and walk verdicts.
+
+A gait is played from the standing horse: the curves blend in over the ramp, then
+``warmup_cycles`` of its own cycles settle it (unscored), then ``cycles`` cycles are
+scored. :meth:`HorseEvaluator.evaluate` simulates that much; :meth:`HorseEvaluator.verify`
+goes on to ``horizon_cycles`` and checks that the gait stays upright (and, for a
+walk, a walk) for every one of them: the check that the gaits a run keeps must pass.
+
 A generation is simulated in groups of at most ``group_size`` gaits, each group
 in chunks of ``chunk_steps`` steps (0.25 s simulated). After each chunk the
 recorded states and sensors are checked for the unviable criteria (fell,
-flipped, unstable) and the measures are accumulated; only the gaits still
-viable are simulated further, from where they stopped. Memory is bounded by a
-group's chunk, whatever the population or the simulated time.
+flipped, unstable) and the records are kept; only the gaits still viable and not
+yet at their own end are simulated further, from where they stopped. Memory is
+bounded by a group's records, whatever the population.
 
 Chunking changes no bit of any result. The gaits run on ``mujoco.batch.Batch``,
 which keeps each simulation's ``mjSTATE_INTEGRATION`` row between calls: the
@@ -13,11 +24,11 @@ full physics state *and* ``qacc_warmstart``, the solver's warm start.
 (``mujoco.rollout`` records and accepts only ``mjSTATE_FULLPHYSICS``, without
 the warm start: restarting it from a recorded state changes the trajectory.)
 The verdict is the first failure in time, checked per step, so it does not
-depend on when a gait is dropped; the measures are per-step quantities summed
-in a fixed order. ``tests/backends/test_chunked_rollout.py`` checks that chunked
-and one-chunk evaluations, and the raw full-length ``mujoco.rollout``, agree to
-the bit with one and two threads. A gait that cannot be scored gets a status
-and the worst fitness; so does one with any non-finite measure.
+depend on when a gait is dropped. ``tests/backends/test_chunked_rollout.py``
+checks that chunked and one-chunk evaluations, and the raw full-length
+``mujoco.rollout``, agree to the bit with one and two threads. A gait that
+cannot be scored gets a status and the worst fitness; so does one with any
+non-finite measure.
 """
 
 from __future__ import annotations
@@ -25,6 +36,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from typing import Any
 
 import mujoco
@@ -33,15 +45,23 @@ from mujoco import batch as mjbatch
 from mujoco import rollout
 
 from gaitgram.backends.api import WORST_FITNESS, Evaluation, GaitStatus, unusable_evaluations
+from gaitgram.backends.mujoco_horse.measures import (
+    HOOVES,
+    CycleMeasures,
+    Recording,
+    cycle_edges,
+    measure_cycles,
+    window,
+)
 from gaitgram.backends.mujoco_horse.model import STATE_SPEC, HorseLayout, horse_layout, load_model
-from gaitgram.backends.mujoco_horse.settings import HorseSettings
+from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles
 from gaitgram.backends.mujoco_horse.task import (
     DEFAULT_WEIGHTS,
-    GaitMetrics,
+    WALK_TERMS,
     GaitTargets,
     fitness_components,
-    is_walk,
     walk_targets,
+    walk_terms,
     weighted_fitness,
 )
 from gaitgram.motion.gait import MotionBatch
@@ -63,32 +83,50 @@ CHUNK_SECONDS = 0.25
 GROUP_SIZE = 256
 
 _RECORD = int(STATE_SPEC)  # mujoco.rollout's state spec: the recorded states are the same arrays
-_HOOVES = ("fore_left", "fore_right", "hind_left", "hind_right")
 
 #: Called after each chunk with the batch rows simulated, the chunk's first step and its records
 #: (views into reused buffers: copy what you keep).
 ChunkObserver = Callable[[np.ndarray, int, np.ndarray, np.ndarray], None]
 
 
-class _Tally:
-    """What the gaits of a group have shown so far: each one's first failure, and the running
-    measures of the others. Measures are kept per step (power) or as exact integer counts
-    (contacts), so that the chunk length cannot change a bit of them."""
+@dataclass(frozen=True)
+class _Standing:
+    """What the records hold at step 0: the horse standing at rest."""
 
-    def __init__(self, size: int, scored_steps: int) -> None:
-        self.failures: dict[int, Evaluation] = {}
-        self.start_x = np.full(size, np.nan)
-        self.end_x = np.full(size, np.nan)
-        self.contacts = np.zeros(size, dtype=np.int64)
-        # Footfalls per gait and hoof: the last step in contact (the horse starts standing), and
-        # the scored touchdowns' count, first and last step and hoof x.
-        self.last_contact = np.full((size, len(_HOOVES)), -1, dtype=np.int64)
-        self.touchdowns = np.zeros((size, len(_HOOVES)), dtype=np.int64)
-        self.first_step = np.zeros((size, len(_HOOVES)), dtype=np.int64)
-        self.last_step = np.zeros((size, len(_HOOVES)), dtype=np.int64)
-        self.first_x = np.zeros((size, len(_HOOVES)))
-        self.last_x = np.zeros((size, len(_HOOVES)))
-        self.power = np.zeros((size, scored_steps))  # per scored step: sum over actuators of |force x speed|
+    trunk: tuple[float, float, float, float]  # x, z, pitch, roll
+    contact: np.ndarray  # per hoof
+    hoof_x: np.ndarray
+
+
+class _Records:
+    """Per gait of a group, what the rollout has recorded so far (entry 0: the standing start)
+    and its first failure, if any."""
+
+    def __init__(self, size: int, steps: int, start: _Standing) -> None:
+        #: Per failed gait: its verdict and the step it failed in.
+        self.failures: dict[int, tuple[Evaluation, int]] = {}
+        self.trunk = np.empty((4, size, steps + 1))  # x, z, pitch, roll
+        self.trunk[:, :, 0] = np.array(start.trunk)[:, None]
+        self.contact = np.empty((size, steps + 1, len(HOOVES)), dtype=bool)
+        self.contact[:, 0] = start.contact
+        self.hoof_x = np.empty((size, steps + 1, len(HOOVES)))
+        self.hoof_x[:, 0] = start.hoof_x
+        self.power = np.zeros((size, steps + 1))
+
+    def recording(self, gait: int, steps: int, frequency: float, evaluator: HorseEvaluator) -> Recording:
+        end = steps + 1
+        return Recording(
+            timestep=evaluator.dt,
+            frequency=frequency,
+            ramp_steps=evaluator.ramp_steps,
+            trunk_x=self.trunk[0, gait, :end],
+            trunk_z=self.trunk[1, gait, :end],
+            pitch=self.trunk[2, gait, :end],
+            roll=self.trunk[3, gait, :end],
+            contact=self.contact[gait, :end],
+            hoof_x=self.hoof_x[gait, :end],
+            power=self.power[gait, :end],
+        )
 
 
 class HorseEvaluator:
@@ -105,10 +143,11 @@ class HorseEvaluator:
         self.targets: GaitTargets = walk_targets(self.settings.froude, self.layout.hip_height)
         self.threads = self.settings.threads or os.cpu_count() or 1
         self.dt = self.model.opt.timestep
-        self.period = 1.0 / self.targets.stride_frequency
         self.ramp_steps = round(self.settings.ramp_seconds / self.dt)
-        self.scored_steps = round(self.settings.cycles * self.period / self.dt)
-        self.nstep = self.ramp_steps + self.scored_steps
+        self.scored = self.settings.cycles
+        self.horizon = self.settings.horizon_cycles
+        #: Steps of an evaluation at the target's frequency (gaits that evolve theirs differ).
+        self.nstep = int(self._stage_steps(np.array([self.targets.stride_frequency]))[0])
         if (chunk_steps is not None and chunk_steps < 1) or group_size < 1:
             raise ValueError(
                 f"chunk_steps and group_size must be at least 1, not {chunk_steps}, {group_size}"
@@ -124,10 +163,8 @@ class HorseEvaluator:
         self._offsets = np.array(
             [self.targets.phase_offsets.get(limb, 0.0) if limb else 0.0 for limb in self.layout.actuator_limb]
         )
-        self._phase, self._ramp = self._step_phases()
         self._curve_of_actuator = np.asarray(self.layout.actuator_curve_index)
-        self._lookups: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
-        self._buffers: tuple[np.ndarray, np.ndarray] | None = None
+        self._lookups: dict[tuple[int, float], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
         self._scratch: tuple[np.ndarray, np.ndarray] | None = None
         self._neutral = np.asarray(self.layout.neutral_ctrl)[None, None, :]
         self._ctrl_low = np.asarray(self.layout.ctrl_low)[None, None, :]
@@ -135,43 +172,71 @@ class HorseEvaluator:
         sensors = self.layout.sensors
         self._trunk_pos = sensors["trunk_pos"]
         self._trunk_quat = sensors["trunk_quat"]
-        self._hoof_touch = np.array([sensors[f"hoof_{limb}"].start for limb in _HOOVES])
-        self._hoof_x = np.array([sensors[f"hoof_pos_{limb}"].start for limb in _HOOVES])
+        self._hoof_touch = np.array([sensors[f"hoof_{limb}"].start for limb in HOOVES])
+        self._hoof_x = np.array([sensors[f"hoof_pos_{limb}"].start for limb in HOOVES])
         self._gap_steps = max(1, round(TOUCHDOWN_GAP_SECONDS / self.dt))
         nq, nv = self.model.nq, self.model.nv
         self._hinge_vel = slice(1 + nq + self.layout.root_dofs, 1 + nq + nv)  # joint speeds in a state vector
         self._act_q = 1 + np.asarray(self.layout.actuator_qpos)
         self._act_v = 1 + nq + np.asarray(self.layout.actuator_dof)
+        self._start = self._standing_records()
+        #: Steps simulated by ``evaluate`` and ``verify`` so far, summed over gaits (for benchmarks).
+        self.simulated_steps = 0
+
+    def _warmup(self, frequencies: np.ndarray) -> np.ndarray:
+        """Per gait, its warm-up cycles: whole cycles lasting ``warmup_seconds``."""
+        return np.array([warmup_cycles(self.settings.warmup_seconds, f) for f in frequencies], dtype=int)
+
+    def _steps(self, frequencies: np.ndarray, cycles: np.ndarray | int) -> np.ndarray:
+        """Per gait, the steps that ``cycles`` of its own cycles after the ramp take."""
+        counts = np.broadcast_to(cycles, frequencies.shape)
+        return np.array(
+            [
+                cycle_edges(f, self.dt, self.ramp_steps, int(c))[-1]
+                for f, c in zip(frequencies, counts, strict=True)
+            ]
+        )
+
+    def _stage_steps(self, frequencies: np.ndarray) -> np.ndarray:
+        """Per gait, the steps an evaluation simulates: the ramp, the warm-up and the scored cycles."""
+        return self._steps(frequencies, self._warmup(frequencies) + self.scored)
+
+    def _standing_records(self) -> _Standing:
+        data = mujoco.MjData(self.model)
+        mujoco.mj_setState(self.model, data, self.initial_state, STATE_SPEC)
+        mujoco.mj_forward(self.model, data)
+        pitch, roll = _tilt(data.sensordata[self._trunk_quat])
+        position = data.sensordata[self._trunk_pos]
+        return _Standing(
+            (float(position[0]), float(position[2]), float(pitch), float(roll)),
+            data.sensordata[self._hoof_touch] > CONTACT_FORCE,
+            data.sensordata[self._hoof_x].copy(),
+        )
 
     # ---- controls ---------------------------------------------------------------------
 
-    def _step_phases(self) -> tuple[np.ndarray, np.ndarray]:
-        """Per actuator and step, the cycle phase its limb is at; and the ramp-in factor per step."""
-        time = np.arange(self.nstep) * self.dt
-        offsets = self._offsets
-        phase = np.mod(time[None, :] * self.targets.stride_frequency - offsets[:, None], 1.0)  # [nu, nstep]
-        ramp = (
-            np.clip(time / self.settings.ramp_seconds, 0.0, 1.0)
-            if self.settings.ramp_seconds
-            else np.ones_like(time)
-        )
-        return phase, ramp
-
-    def controls(self, batch: MotionBatch, rows: np.ndarray) -> np.ndarray:
-        """Control arrays [gaits, steps, actuators]: neutral pose plus each limb's curve at its phase.
-
-        All ``nstep`` steps at once (for rendering one gait); evaluation builds the same values a
-        chunk at a time."""
-        return self._control_steps(
-            self._curve_table(batch, rows), batch.n_samples, 0, self.nstep, self._frequencies(batch, rows)
-        )
-
-    def _frequencies(self, batch: MotionBatch, rows: np.ndarray) -> np.ndarray | None:
-        """Each gait's cycle frequency (Hz) where the grammar evolves it; None: the target's for all."""
+    def frequencies(self, batch: MotionBatch, rows: np.ndarray) -> np.ndarray:
+        """Each gait's cycle frequency (Hz): its own where the grammar evolves it, else the target's."""
         if batch.frequencies is None:
-            return None
+            return np.full(len(rows), self.targets.stride_frequency)
         chosen = np.asarray(batch.frequencies, dtype=float)[rows]
         return np.where(np.isfinite(chosen), chosen, self.targets.stride_frequency)
+
+    def controls(self, batch: MotionBatch, rows: np.ndarray, cycles: int | None = None) -> np.ndarray:
+        """Control arrays [gaits, steps, actuators] for ``cycles`` cycles after the ramp (by default
+        the warm-up and scored ones) of the longest gait: neutral pose plus each limb's curve at its
+        phase. All steps at once (rendering, the raw reference); evaluation builds the same values
+        a chunk at a time."""
+        frequencies = self.frequencies(batch, rows)
+        ends = self._stage_steps(frequencies) if cycles is None else self._steps(frequencies, cycles)
+        steps = int(ends.max())
+        return self._control_steps(
+            self._curve_table(batch, rows), batch.n_samples, 0, steps, self._own(batch, frequencies)
+        )
+
+    def _own(self, batch: MotionBatch, frequencies: np.ndarray) -> np.ndarray | None:
+        """The per-gait frequencies to play, or None when every gait plays the target's."""
+        return None if batch.frequencies is None else frequencies
 
     def _curve_table(self, batch: MotionBatch, rows: np.ndarray) -> np.ndarray:
         """Per gait, every actuator's curve samples in radians, flat: [gaits, actuators * samples]."""
@@ -191,65 +256,66 @@ class HorseEvaluator:
         bit-identical to the same steps of the full array."""
         steps = slice(first, last)
         if frequencies is None:
-            low, high, frac = self._lookup(samples)
+            low, high, frac = self._lookup(samples, last)
             # One flat gather per interpolation end, straight into [gaits, steps, actuators] order.
             v_low = np.take(table, low[steps], axis=1)
             control = np.take(table, high[steps], axis=1)
             fraction = frac[steps]
-        else:
-            low, high, fraction = self._own_lookup(samples, first, last, frequencies)
-            gait = np.arange(len(table))[:, None, None]
-            v_low = table[gait, low]
-            control = table[gait, high]
+        else:  # the same per distinct frequency (grammars evolve a few), gaits gathered by it
+            shape = (len(table), last - first, self.model.nu)
+            v_low, control, fraction = np.empty(shape), np.empty(shape), np.empty(shape)
+            for value in np.unique(frequencies):
+                gaits = np.flatnonzero(frequencies == value)
+                low, high, frac = self._lookup(samples, last, float(value))
+                v_low[gaits] = np.take(table[gaits], low[steps], axis=1)
+                control[gaits] = np.take(table[gaits], high[steps], axis=1)
+                fraction[gaits] = frac[steps]
         control -= v_low
         control *= fraction
         control += v_low
-        control *= self._ramp[None, steps, None]
+        control *= self._ramp(first, last)[None, :, None]
         control += self._neutral
         np.clip(control, self._ctrl_low, self._ctrl_high, out=control)
         return control
 
-    def _lookup(self, samples: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Flat sample indices [steps, actuators] around each step's phase, and the weight between them."""
-        cached = self._lookups.get(samples)
-        if cached is None:
-            position = self._phase.T * samples  # [nstep, nu], in samples
+    def _ramp(self, first: int, last: int) -> np.ndarray:
+        """The blend-in factor of steps ``first..last-1``: 0 standing, 1 from the ramp's end on."""
+        if not self.settings.ramp_seconds:
+            return np.ones(last - first)
+        return np.clip(np.arange(first, last) * self.dt / self.settings.ramp_seconds, 0.0, 1.0)
+
+    def _lookup(
+        self, samples: int, last: int, frequency: float | None = None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Flat sample indices [steps, actuators] around each step's phase at ``frequency`` (Hz; the
+        target's by default), and the weight between them, for at least ``last`` steps."""
+        frequency = self.targets.stride_frequency if frequency is None else frequency
+        cached = self._lookups.get((samples, frequency))
+        if cached is None or len(cached[0]) < last:
+            steps = max(last, self.nstep)
+            time = np.arange(steps) * self.dt
+            phase = np.mod(time[:, None] * frequency - self._offsets[None, :], 1.0)
+            position = phase * samples  # [steps, nu], in samples
             low = np.floor(position).astype(np.intp) % samples
             base = np.arange(self.model.nu)[None, :] * samples
             cached = (base + low, base + (low + 1) % samples, position - np.floor(position))
-            self._lookups[samples] = cached
+            self._lookups[(samples, frequency)] = cached
         return cached
-
-    def _own_lookup(
-        self, samples: int, first: int, last: int, frequencies: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """As :meth:`_lookup`, per gait at its own frequency: [gaits, steps, actuators] each."""
-        time = np.arange(first, last) * self.dt
-        phase = np.mod(time[None, :, None] * frequencies[:, None, None] - self._offsets[None, None, :], 1.0)
-        position = phase * samples
-        floor = np.floor(position)
-        low = floor.astype(np.intp) % samples
-        base = np.arange(self.model.nu)[None, None, :] * samples
-        return base + low, base + (low + 1) % samples, position - floor
 
     # ---- simulation -------------------------------------------------------------------
 
     def simulate(self, control: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The raw full-length ``mujoco.rollout`` of control arrays [gaits, nstep, actuators]: states
-        (``STATE_SPEC``) and sensors [gaits, nstep, ...], no gait dropped. ``evaluate`` does not use
-        it; it is the reference that chunked evaluation is bit-identical to, and the benchmark's
-        ceiling. The output buffers are reused between calls."""
+        """The raw full-length ``mujoco.rollout`` of control arrays [gaits, steps, actuators]:
+        states (``STATE_SPEC``) and sensors [gaits, steps, ...], no gait dropped. ``evaluate`` does
+        not use it; it is the reference that chunked evaluation is bit-identical to, and the
+        benchmark's ceiling."""
         if self._pool is None:
             self._pool = rollout.Rollout(nthread=self.threads)
             self._datas = [mujoco.MjData(self.model) for _ in range(self.threads)]
-        size = control.shape[0]
-        if self._buffers is None or self._buffers[0].shape[0] != size:
-            nstate = mujoco.mj_stateSize(self.model, STATE_SPEC)
-            self._buffers = (
-                np.empty((size, self.nstep, nstate)),
-                np.empty((size, self.nstep, self.model.nsensordata)),
-            )
-        state, sensors = self._buffers
+        size, steps = control.shape[:2]
+        nstate = mujoco.mj_stateSize(self.model, STATE_SPEC)
+        state = np.empty((size, steps, nstate))
+        sensors = np.empty((size, steps, self.model.nsensordata))
         self._pool.rollout(
             self.model, self._datas, self.initial_state[None, :], control, state=state, sensordata=sensors
         )
@@ -285,11 +351,36 @@ class HorseEvaluator:
     def evaluate(
         self, batch: MotionBatch, *, generation: int = 0, weights: Mapping[str, float] | None = None
     ) -> list[Evaluation]:
+        """Score each gait over its warm-up and scored cycles (its walk not yet ``sustained``)."""
+        return self._evaluate(batch, weights, None)
+
+    def verify(
+        self, batch: MotionBatch, *, generation: int = 0, weights: Mapping[str, float] | None = None
+    ) -> list[Evaluation]:
+        """As :meth:`evaluate`, simulated on to the horizon: a gait that falls before it is unviable,
+        one that stays up has ``checked_cycles`` = the horizon and, if it walks in every cycle after
+        the warm-up, ``walk_sustained`` and ``walk`` 1. Its fitness is the same as ``evaluate``'s."""
+        return self._evaluate(batch, weights, self.horizon)
+
+    def ends(self, frequencies: np.ndarray) -> np.ndarray:
+        """Per gait at ``frequencies``, the steps an evaluation simulates if it does not fall."""
+        return self._stage_steps(frequencies)
+
+    def _ends(self, frequencies: np.ndarray, cycles: int | None) -> np.ndarray:
+        """Per gait, the step its simulation ends at: after ``cycles`` (None: its warm-up and scored
+        cycles)."""
+        return self._stage_steps(frequencies) if cycles is None else self._steps(frequencies, cycles)
+
+    def _evaluate(
+        self, batch: MotionBatch, weights: Mapping[str, float] | None, cycles: int | None
+    ) -> list[Evaluation]:
         results: dict[int, Evaluation] = unusable_evaluations(batch)
         rows = np.array([g for g in range(len(batch)) if g not in results], dtype=np.intp)
         if len(rows):
             active = weights or self.settings.weights or DEFAULT_WEIGHTS
-            for row, evaluation in zip(rows, self.evaluate_rows(batch, rows, active), strict=True):
+            for row, evaluation in zip(
+                rows, self.evaluate_rows(batch, rows, active, cycles=cycles), strict=True
+            ):
                 results[int(row)] = evaluation
         return [results[g] for g in range(len(batch))]
 
@@ -299,13 +390,15 @@ class HorseEvaluator:
         rows: np.ndarray,
         weights: Mapping[str, float],
         *,
+        cycles: int | None = None,
         on_chunk: ChunkObserver | None = None,
     ) -> list[Evaluation]:
-        """Simulate and score the gaits ``rows`` of ``batch`` (all usable), a group at a time."""
+        """Simulate and score the gaits ``rows`` of ``batch`` (all usable) for ``cycles`` cycles
+        after the ramp (None: each its warm-up and scored ones), a group at a time."""
         evaluations: list[Evaluation] = []
         for start in range(0, len(rows), self.group_size):
             group = np.asarray(rows[start : start + self.group_size], dtype=np.intp)
-            evaluations += self._evaluate_group(batch, group, weights, on_chunk)
+            evaluations += self._evaluate_group(batch, group, weights, cycles, on_chunk)
         return evaluations
 
     def _evaluate_group(
@@ -313,27 +406,29 @@ class HorseEvaluator:
         batch: MotionBatch,
         rows: np.ndarray,
         weights: Mapping[str, float],
+        cycles: int | None,
         on_chunk: ChunkObserver | None,
     ) -> list[Evaluation]:
         size = len(rows)
         sim = self._simulator()
         table = self._curve_table(batch, rows)
-        frequencies = self._frequencies(batch, rows)
-        tally = _Tally(size, self.scored_steps)
+        frequencies = self.frequencies(batch, rows)
+        own = self._own(batch, frequencies)
+        ends = self._ends(frequencies, cycles)  # per gait: its last step
+        records = _Records(size, int(ends.max()), self._start)
         sim.state[:size] = self._start_row
         sim.warning[:size] = 0
-        alive = np.arange(size, dtype=np.int32)  # simulation ids, also indices into rows and tally
-        for first in range(0, self.nstep, self.chunk_steps):
-            if not len(alive):
-                break
-            last = min(first + self.chunk_steps, self.nstep)
+        alive = np.arange(size, dtype=np.int32)  # simulation ids, also indices into rows and records
+        first = 0
+        while len(alive):
+            last = min(first + self.chunk_steps, int(ends[alive].max()))
             everyone = len(alive) == size
             control = self._control_steps(
                 table if everyone else table[alive],
                 batch.n_samples,
                 first,
                 last,
-                frequencies if frequencies is None or everyone else frequencies[alive],
+                own if own is None or everyone else own[alive],
             )
             state, sensors = self._chunk_buffers(len(alive), last - first)
             errors = None
@@ -347,52 +442,94 @@ class HorseEvaluator:
                 )
             except mjbatch.SimulationError:  # MuJoCo raised in some simulations; the others ran
                 errors = {i: sim.error(int(alive[i])) for i in np.flatnonzero(sim.status[alive] != 0)}
+            self.simulated_steps += len(alive) * (last - first)
             if on_chunk is not None:
                 on_chunk(rows[alive], first, state, sensors)
-            failed = self._observe(tally, alive, first, state, sensors, control, sim.warning[alive], errors)
-            alive = alive[~failed]
-        return self._verdicts(tally, weights)
+            failed = self._observe(
+                records,
+                alive,
+                first,
+                ends[alive] - first,
+                state,
+                sensors,
+                control,
+                sim.warning[alive],
+                errors,
+            )
+            alive = alive[~failed & (ends[alive] > last)]
+            first = last
+        return self._verdicts(records, ends, frequencies, weights, cycles)
 
     def score(
-        self, state: np.ndarray, sensors: np.ndarray, control: np.ndarray, weights: Mapping[str, float]
+        self,
+        state: np.ndarray,
+        sensors: np.ndarray,
+        control: np.ndarray,
+        weights: Mapping[str, float],
+        frequencies: np.ndarray | None = None,
+        cycles: int | None = None,
     ) -> list[Evaluation]:
-        """Score full-length records [gaits, nstep, ...] (``simulate``'s) as evaluation would.
+        """Score full-length records [gaits, steps, ...] (``simulate``'s) as evaluation would, each
+        gait up to its own end (at the target's frequency, or at ``frequencies``).
 
         Without ``Batch``'s warning counters, a rollout that MuJoCo stopped is told by its repeated
         records (time stops advancing), so a warning in the very last step goes unnoticed here."""
-        if state.shape[1] != self.nstep:
-            raise ValueError(f"records of {state.shape[1]} steps; a simulation has {self.nstep}")
-        tally = _Tally(state.shape[0], self.scored_steps)
-        self._observe(tally, np.arange(state.shape[0]), 0, state, sensors, control, None, None)
-        return self._verdicts(tally, weights)
+        gaits = state.shape[0]
+        if frequencies is None:
+            frequencies = np.full(gaits, self.targets.stride_frequency)
+        ends = self._ends(frequencies, cycles)
+        if state.shape[1] < ends.max():
+            raise ValueError(f"records of {state.shape[1]} steps; the slowest gait needs {ends.max()}")
+        records = _Records(gaits, int(ends.max()), self._start)
+        self._observe(records, np.arange(gaits), 0, ends, state, sensors, control, None, None)
+        return self._verdicts(records, ends, frequencies, weights, cycles)
+
+    def recordings(
+        self, state: np.ndarray, sensors: np.ndarray, control: np.ndarray, frequencies: np.ndarray
+    ) -> list[Recording]:
+        """What the task measures, from full-length records [gaits, steps, ...] (``simulate``'s) of
+        gaits played at ``frequencies``, failures or not: for measurements beyond the fitness."""
+        gaits, steps = state.shape[:2]
+        records = _Records(gaits, steps, self._start)
+        self._record(records, np.arange(gaits), 0, state, sensors, control)
+        return [records.recording(g, steps, float(frequencies[g]), self) for g in range(gaits)]
+
+    @property
+    def gap_steps(self) -> int:
+        """Steps off the ground before a contact is a new footfall."""
+        return self._gap_steps
 
     def _observe(
         self,
-        tally: _Tally,
+        records: _Records,
         gaits: np.ndarray,
         first: int,
+        remaining: np.ndarray,
         state: np.ndarray,
         sensors: np.ndarray,
         control: np.ndarray,
         warnings: np.ndarray | None,
         errors: Mapping[int, str] | None,
     ) -> np.ndarray:
-        """Take in one chunk of records of ``gaits`` (indices into the tally) starting at step
-        ``first``; returns which of them failed in it."""
-        failed = self._failures(tally, gaits, first, state, sensors, warnings)
+        """Take in one chunk of records of ``gaits`` (indices into the records) starting at step
+        ``first``, each valid for its ``remaining`` steps (past its end a gait's steps are not its
+        own); returns which of them failed in it."""
+        failed = self._failures(records, gaits, first, remaining, state, sensors, warnings)
         for i, message in (errors or {}).items():  # records of a simulation that raised mean nothing
-            tally.failures[int(gaits[i])] = Evaluation.unviable(
-                GaitStatus.UNSTABLE, f"MuJoCo error: {message}"
+            records.failures[int(gaits[i])] = (
+                Evaluation.unviable(GaitStatus.UNSTABLE, f"MuJoCo error: {message}"),
+                first + state.shape[1],
             )
             failed[i] = True
-        self._measure(tally, gaits, first, state, sensors, control)
+        self._record(records, gaits, first, state, sensors, control)
         return failed
 
     def _failures(
         self,
-        tally: _Tally,
+        records: _Records,
         gaits: np.ndarray,
         first: int,
+        remaining: np.ndarray,
         state: np.ndarray,
         sensors: np.ndarray,
         warnings: np.ndarray | None,
@@ -403,6 +540,7 @@ class HorseEvaluator:
         trunk_z = sensors[:, :, self._trunk_pos.start + 2]
         quat = sensors[:, :, self._trunk_quat]
         gaits_steps = state.shape[:2]
+        own = np.arange(steps)[None, :] < np.minimum(remaining, steps)[:, None]  # steps that are theirs
         with np.errstate(all="ignore"):
             # Per step, but only for the gaits (or chunks) where a whole-chunk check finds something.
             if np.isfinite(state).all() and np.isfinite(sensors).all():
@@ -415,15 +553,15 @@ class HorseEvaluator:
             speed[fast] = np.abs(state[fast][:, :, self._hinge_vel]).max(axis=2)
             up_z = 1 - 2 * (quat[:, :, 1] ** 2 + quat[:, :, 2] ** 2)  # z component of the trunk's up axis
             tests = (
-                broken,
-                speed > UNSTABLE_SPEED,
-                up_z < FLIP_COSINE,
-                trunk_z < FALL_HEIGHT * self.layout.standing_height,
+                broken & own,
+                (speed > UNSTABLE_SPEED) & own,
+                (up_z < FLIP_COSINE) & own,
+                (trunk_z < FALL_HEIGHT * self.layout.standing_height) & own,
             )
         # A MuJoCo warning stops a rollout: its later records repeat the last one. Batch's counters
         # tell it even when the warning came in the chunk's last step, where no repeat shows.
         time = state[:, :, 0]
-        frozen = time[:, 1:] == time[:, :-1]
+        frozen = (time[:, 1:] == time[:, :-1]) & own[:, 1:]
         stopped = warnings[:, :, 1].any(axis=1) if warnings is not None else frozen.any(axis=1)
         repeats = frozen.any(axis=1)
         stop_step = np.full(len(stopped), steps - 1)
@@ -463,136 +601,137 @@ class HorseEvaluator:
                 evaluation = Evaluation.unviable(
                     GaitStatus.FELL, f"trunk down to {trunk_z[i, k]:.2f} m at {seconds:.3f} s"
                 )
-            tally.failures[int(gaits[i])] = evaluation
+            records.failures[int(gaits[i])] = (evaluation, first + k + 1)
         return failed
 
-    def _measure(
+    def _record(
         self,
-        tally: _Tally,
+        records: _Records,
         gaits: np.ndarray,
         first: int,
         state: np.ndarray,
         sensors: np.ndarray,
         control: np.ndarray,
     ) -> None:
-        """Accumulate one chunk's share of the measures: trunk x at the ramp's end and at the last
-        step, hoof contacts and actuator power over the scored steps."""
-        last = first + state.shape[1]
-        ramp = self.ramp_steps
-        trunk_x = sensors[:, :, self._trunk_pos.start]
-        self._footfalls(tally, gaits, first, sensors)  # every chunk: contacts in the ramp carry over
-        if first <= ramp < last:
-            tally.start_x[gaits] = trunk_x[:, ramp - first]
-        if last == self.nstep:
-            tally.end_x[gaits] = trunk_x[:, -1]
-        begin = max(first, ramp)
-        if begin >= last:
-            return
-        scored = slice(begin - first, last - first)
-        touches = sensors[:, scored][:, :, self._hoof_touch]
-        tally.contacts[gaits] += np.count_nonzero(touches > CONTACT_FORCE, axis=(1, 2))
+        """Keep one chunk's share of what the task measures: trunk position and tilt, hoof
+        contacts and positions, and the actuators' total absolute power, per step."""
+        steps = slice(first + 1, first + 1 + state.shape[1])
+        trunk = self._trunk_pos.start
+        records.trunk[0, gaits, steps] = sensors[:, :, trunk]
+        records.trunk[1, gaits, steps] = sensors[:, :, trunk + 2]
+        records.trunk[2, gaits, steps], records.trunk[3, gaits, steps] = _tilt(
+            sensors[:, :, self._trunk_quat]
+        )
+        records.contact[gaits, steps] = sensors[:, :, self._hoof_touch] > CONTACT_FORCE
+        records.hoof_x[gaits, steps] = sensors[:, :, self._hoof_x]
 
         # Actuator power: |force x joint speed| per step, from the position servos' law.
         model = self.model
-        act_q = state[:, scored][:, :, self._act_q]
-        act_v = state[:, scored][:, :, self._act_v]
+        act_q = state[:, :, self._act_q]
+        act_v = state[:, :, self._act_v]
         kp = -model.actuator_biasprm[:, 1]
         kv = -model.actuator_biasprm[:, 2]
         with np.errstate(all="ignore"):  # in place: these arrays are gaits x steps x actuators
-            force = control[:, scored] * model.actuator_gainprm[:, 0]
+            force = control * model.actuator_gainprm[:, 0]
             act_q *= kp
             force -= act_q
             force -= kv * act_v
             np.clip(force, model.actuator_forcerange[:, 0], model.actuator_forcerange[:, 1], out=force)
             force *= act_v
             np.abs(force, out=force)
-            tally.power[gaits, begin - ramp : last - ramp] = force.sum(axis=2)
+            records.power[gaits, steps] = force.sum(axis=2)
 
-    def _footfalls(self, tally: _Tally, gaits: np.ndarray, first: int, sensors: np.ndarray) -> None:
-        """Count touchdowns in the scored steps of a chunk: a hoof's contact that starts after at
-        least ``_gap_steps`` off the ground. Integer steps and recorded positions only, carried
-        between chunks, so that the chunk length cannot change them."""
-        steps = sensors.shape[1]
-        step = np.arange(first, first + steps)[None, :, None]
-        contact = sensors[:, :, self._hoof_touch] > CONTACT_FORCE  # [gaits, steps, hooves]
-        carried = tally.last_contact[gaits][:, None, :]
-        latest = np.maximum(np.maximum.accumulate(np.where(contact, step, -1), axis=1), carried)
-        before = np.concatenate([carried, latest[:, :-1]], axis=1)  # last contact before each step
-        touchdown = contact & (step - before > self._gap_steps) & (step >= self.ramp_steps)
-        tally.last_contact[gaits] = latest[:, -1]
-        count = touchdown.sum(axis=1)  # [gaits, hooves]
-        if not count.any():
-            return
-        hoof_x = sensors[:, :, self._hoof_x]
-        firsts = touchdown.argmax(axis=1)
-        lasts = steps - 1 - touchdown[:, ::-1].argmax(axis=1)
-        rows, hooves = np.nonzero(count)
-        new = tally.touchdowns[gaits[rows], hooves] == 0
-        at_first = firsts[rows, hooves]
-        at_last = lasts[rows, hooves]
-        g_new, h_new = gaits[rows[new]], hooves[new]
-        tally.first_step[g_new, h_new] = first + at_first[new]
-        tally.first_x[g_new, h_new] = hoof_x[rows[new], at_first[new], hooves[new]]
-        tally.last_step[gaits[rows], hooves] = first + at_last
-        tally.last_x[gaits[rows], hooves] = hoof_x[rows, at_last, hooves]
-        tally.touchdowns[gaits] += count
+    def _verdicts(
+        self,
+        records: _Records,
+        ends: np.ndarray,
+        frequencies: np.ndarray,
+        weights: Mapping[str, float],
+        cycles: int | None,
+    ) -> list[Evaluation]:
+        """Each gait's evaluation: its first failure, or its recording measured and judged."""
+        found = []
+        stage = self._stage_steps(frequencies)
+        for g in range(len(ends)):
+            if g in records.failures:
+                failure, step = records.failures[g]
+                if step > stage[g]:  # past what evaluate simulates: the horizon's check failed
+                    failure = Evaluation.unviable(
+                        failure.status,
+                        f"{failure.detail}, after the scored cycles, within the {cycles}-cycle horizon",
+                    )
+                found.append(failure)
+            else:
+                recording = records.recording(g, int(ends[g]), float(frequencies[g]), self)
+                found.append(self._judge(recording, weights, cycles))
+        return found
 
-    def _strides(self, tally: _Tally) -> tuple[np.ndarray, np.ndarray]:
-        """Per gait, the mean over hooves of stride length (m) and stride frequency (Hz) between
-        successive touchdowns; a hoof with fewer than two touchdowns took no measurable stride
-        and counts as 0 for both."""
-        strides = tally.touchdowns - 1
-        stepped = strides > 0
-        with np.errstate(divide="ignore", invalid="ignore"):
-            length = np.where(stepped, (tally.last_x - tally.first_x) / strides, 0.0)
-            period = (tally.last_step - tally.first_step) * self.dt / strides
-            frequency = np.where(stepped, 1.0 / period, 0.0)
-        return length.mean(axis=1), frequency.mean(axis=1)
-
-    def _verdicts(self, tally: _Tally, weights: Mapping[str, float]) -> list[Evaluation]:
-        """Each gait's evaluation: its first failure, or its measures scored."""
-        seconds = self.scored_steps * self.dt
-        with np.errstate(all="ignore"):
-            velocity = (tally.end_x - tally.start_x) / seconds
-            duty = tally.contacts / (len(_HOOVES) * self.scored_steps)
-            # Per-step sums, then over the steps in order: the same additions for any chunk length.
-            work = tally.power.sum(axis=1) * self.dt / self.settings.cycles
-        length, frequency = self._strides(tally)
-        return [
-            tally.failures.get(g)
-            or self._judge(
-                GaitMetrics(
-                    float(velocity[g]), float(duty[g]), float(length[g]), float(frequency[g]), float(work[g])
-                ),
-                weights,
-            )
-            for g in range(len(velocity))
-        ]
-
-    def _judge(self, metrics: GaitMetrics, weights: Mapping[str, float]) -> Evaluation:
-        """Score measured metrics; any non-finite measure, component or fitness is not a score."""
-        components = fitness_components(metrics, self.targets, self.layout.total_mass)
+    def _judge(self, recording: Recording, weights: Mapping[str, float], cycles: int | None) -> Evaluation:
+        """Score a recording (of ``cycles`` cycles after the ramp, None: its warm-up and scored ones);
+        any non-finite measure, component or fitness is not a score."""
+        warmup = warmup_cycles(self.settings.warmup_seconds, recording.frequency)
+        scored = measure_cycles(recording, warmup, warmup + self.scored, self._gap_steps)
+        means = window(scored)
+        components = fitness_components(means, self.targets, self.layout.total_mass)
         measured = {
-            "measured_velocity": metrics.velocity,
-            "measured_duty_factor": metrics.duty_factor,
-            "measured_stride": metrics.stride_length,
-            "measured_frequency": metrics.stride_frequency,
-            "measured_work": metrics.work_per_cycle,
+            "measured_velocity": means.velocity,
+            "measured_duty_factor": means.duty_factor,
+            "measured_stride": means.stride_length,
+            "measured_frequency": means.stride_frequency,
+            "measured_work": float(np.mean(scored.work)),
+            "measured_speed_spread": means.speed_spread,
         }
         fitness = weighted_fitness(components, weights)
         values = {**measured, **components, "fitness": fitness}
         bad = [f"{name} = {value}" for name, value in values.items() if not math.isfinite(value)]
         if bad:
             return Evaluation.unviable(GaitStatus.NON_FINITE, f"non-finite {', '.join(bad)}")
-        walk = float(is_walk(metrics, self.targets))  # reported, never weighted
-        components = {**components, **measured, "walk": walk}
-        return Evaluation(min(fitness, WORST_FITNESS), GaitStatus.OK, components)
+        terms = walk_terms(scored, self.targets)
+        if cycles is not None:  # verified: every cycle after the warm-up, to the horizon
+            horizon = walk_terms(measure_cycles(recording, warmup, cycles, self._gap_steps), self.targets)
+            terms["sustained"] = all(terms.values()) and all(horizon.values())
+        else:
+            terms["sustained"] = False
+        verdicts = {f"walk_{term.name}": float(terms[term.name]) for term in WALK_TERMS}
+        components = {
+            **components,
+            **measured,
+            **verdicts,
+            "walk": float(all(terms.values())),  # reported, never weighted
+            "checked_cycles": float(warmup + self.scored if cycles is None else cycles),
+        }
+        return Evaluation(min(fitness, WORST_FITNESS), GaitStatus.OK, components, cycles=_series(scored))
 
     def close(self) -> None:
         if self._pool is not None:
             self._pool.close()
             self._pool = None
         self._sim = None
+
+
+def _tilt(quat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Trunk pitch (nose up positive) and roll, degrees, from (w, x, y, z) quaternions [..., 4]."""
+    w, x, y, z = np.moveaxis(quat, -1, 0)
+    with np.errstate(all="ignore"):
+        pitch = -np.degrees(np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0)))
+        roll = np.degrees(np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y)))
+    return pitch, roll
+
+
+def _series(scored: CycleMeasures) -> dict[str, tuple[float, ...]]:
+    """Each scored cycle's measures, for reports that show the spread: a hoof that closed no
+    stride in a cycle counts 0, as in the window's means."""
+    lengths = np.nan_to_num(scored.stride_length).mean(axis=1)
+    frequencies = np.nan_to_num(scored.stride_frequency).mean(axis=1)
+    series = {
+        "speed": scored.speed,
+        "duty_factor": scored.duty_factor.mean(axis=1),
+        **{f"duty_factor_{hoof}": scored.duty_factor[:, h] for h, hoof in enumerate(HOOVES)},
+        "stride_length": lengths,
+        "stride_frequency": frequencies,
+        "work": scored.work,
+    }
+    return {name: tuple(float(v) for v in values) for name, values in series.items()}
 
 
 def load(settings: Mapping[str, Any] | None = None) -> HorseEvaluator:

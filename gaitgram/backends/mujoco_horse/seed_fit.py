@@ -38,24 +38,31 @@ CHAINS = {
 
 @dataclass(frozen=True)
 class FootPath:
-    """The hoof path asked of every limb (metres and stride fractions)."""
+    """The hoof path asked of every limb (metres and stride fractions): a real walk at the target
+    speed (seeds/README.md, "Refitted to the real walk")."""
 
-    excursion: float = 0.70  # backward travel of the hoof during stance, relative to the trunk
-    duty: float = 0.70  # stance share of the stride
+    #: Backward travel of the hoof during stance, relative to the trunk: the real walk's stance
+    #: share times Alexander's stride at the target speed (0.59 x 1.69 m).
+    excursion: float = 1.0
+    duty: float = 0.60  # stance share of the stride: the DLC_Horse walks' 0.59
     lift: float = 0.15  # hoof height at mid-swing
+    #: The trunk this much below its standing height: at standing height a hoof 0.5 m ahead of or
+    #: behind its limb cannot reach the ground within the joint limits.
+    crouch: float = 0.045
     reference_weight: float = 0.02  # pull towards the recipe curves, per degree, against 1 per cm
     margin: float = 6.0  # degrees kept clear of each joint limit, for the grammars' variations
     harmonics: int = 8  # Fourier harmonics kept in each fitted curve
 
 
 def hoof_target(path: FootPath, phase: float) -> tuple[float, float, bool]:
-    """(forward, up) displacement of the hoof from standing, in metres, and whether it is in stance."""
+    """(forward, up) displacement of the hoof from standing, relative to the trunk, in metres, and
+    whether it is in stance."""
     if phase < path.duty:
         progress = phase / path.duty
-        return path.excursion / 2 - path.excursion * progress, 0.0, True
+        return path.excursion / 2 - path.excursion * progress, path.crouch, True
     progress = (phase - path.duty) / (1 - path.duty)
     forward = -path.excursion / 2 + path.excursion * (0.5 - 0.5 * np.cos(np.pi * progress))
-    return float(forward), path.lift * float(np.sin(np.pi * progress)), False
+    return float(forward), path.crouch + path.lift * float(np.sin(np.pi * progress)), False
 
 
 def _limits(curve: str) -> tuple[float, float]:

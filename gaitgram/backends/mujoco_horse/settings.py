@@ -14,25 +14,41 @@ from dataclasses import dataclass
 from typing import Any
 
 from gaitgram.backends.api import SettingsError
-from gaitgram.backends.mujoco_horse.task import DEFAULT_FROUDE, DEFAULT_WEIGHTS, walk_targets
+from gaitgram.backends.mujoco_horse.task import (
+    CYCLE_FREQUENCIES,
+    DEFAULT_FROUDE,
+    DEFAULT_WEIGHTS,
+    walk_targets,
+)
 
 #: The fitness components a weight may name.
 WEIGHT_NAMES: frozenset[str] = frozenset(DEFAULT_WEIGHTS)
 #: Nominal hip height for sizing a simulation before the model is loaded (the model measures 1.138 m).
 NOMINAL_HIP_HEIGHT = 1.14
 #: Longest simulated time per gait: past this a typo (``cycles = 3000``) would cost hours and gigabytes.
-MAX_SIMULATED_SECONDS = 60.0
+MAX_SIMULATED_SECONDS = 120.0
 MAX_THREADS = 1024
 #: Lowest Froude number the walk targets are read at (slower than this is standing still).
 MIN_FROUDE = 0.05
 MAX_FROUDE = 2.5
 
 
+#: Unscored time after the ramp, rounded up to whole cycles of the gait: from rest, the horse
+#: settles to a steady speed 1.3-1.8 s after the ramp (docs/fitness.md, "Warm-up").
+DEFAULT_WARMUP_SECONDS = 1.5
+#: Cycles after the ramp that a gait a run keeps is checked over: it must stay upright (and, if it
+#: is a walk, walk) for all of them.
+DEFAULT_HORIZON_CYCLES = 20
+MIN_HORIZON_CYCLES = 20
+
+
 @dataclass(frozen=True)
 class HorseSettings:
     froude: float = DEFAULT_FROUDE
     ramp_seconds: float = 0.5  # controls blend in from the standing pose
-    cycles: int = 3  # gait cycles scored after the ramp
+    warmup_seconds: float = DEFAULT_WARMUP_SECONDS  # after the ramp, in whole own cycles, not scored
+    cycles: int = 3  # own cycles scored after the warm-up
+    horizon_cycles: int = DEFAULT_HORIZON_CYCLES  # own cycles after the ramp a kept gait is checked over
     threads: int = 0  # 0: all cores
     weights: Mapping[str, float] | None = None
 
@@ -42,15 +58,15 @@ class HorseSettings:
     @classmethod
     def from_mapping(cls, settings: Mapping[str, Any]) -> HorseSettings:
         """Read a ``[backend_settings]`` table; raises :class:`SettingsError` naming the key."""
-        known = ("froude", "ramp_seconds", "cycles", "threads", "weights")
+        known = ("froude", "ramp_seconds", "warmup_seconds", "cycles", "horizon_cycles", "threads", "weights")
         for key in settings:
             if key not in known:
                 raise SettingsError(str(key), f"unknown mujoco-horse setting{_suggest(str(key), known)}")
         values: dict[str, Any] = {}
-        for key in ("froude", "ramp_seconds"):
+        for key in ("froude", "ramp_seconds", "warmup_seconds"):
             if key in settings:
                 values[key] = _number(key, settings[key])
-        for key in ("cycles", "threads"):
+        for key in ("cycles", "horizon_cycles", "threads"):
             if key in settings:
                 values[key] = _integer(key, settings[key])
         if "weights" in settings:
@@ -59,8 +75,26 @@ class HorseSettings:
 
     @property
     def simulated_seconds(self) -> float:
+        """Simulated time of the longest check, a kept gait's over the horizon, at the target's
+        cycle frequency."""
         targets = walk_targets(self.froude, NOMINAL_HIP_HEIGHT)
-        return self.ramp_seconds + self.cycles / targets.stride_frequency
+        return self.ramp_seconds + self.horizon_cycles / targets.stride_frequency
+
+
+#: Fewest warm-up cycles: every hoof must have landed once before the first scored cycle, since a
+#: stride is measured from one footfall to the next (the standing start is no footfall).
+MIN_WARMUP_CYCLES = 2
+
+
+def warmup_cycles(seconds: float, frequency: float) -> int:
+    """Whole cycles of a gait at ``frequency`` (Hz) that last at least ``seconds``, and at least
+    :data:`MIN_WARMUP_CYCLES`."""
+    return max(MIN_WARMUP_CYCLES, math.ceil(seconds * frequency - 1e-9))
+
+
+def max_warmup_cycles(seconds: float) -> int:
+    """The warm-up cycles of the fastest gait the backend plays."""
+    return warmup_cycles(seconds, CYCLE_FREQUENCIES[1])
 
 
 def weights_table(key: str, value: Any) -> dict[str, float]:
@@ -86,15 +120,26 @@ def _check(s: HorseSettings) -> None:
         raise SettingsError("froude", f"must be in [{MIN_FROUDE}, {MAX_FROUDE}], not {s.froude}")
     if not 0 <= s.ramp_seconds <= 10:
         raise SettingsError("ramp_seconds", f"must be in [0, 10] seconds, not {s.ramp_seconds}")
+    if not 0 <= s.warmup_seconds <= 10:
+        raise SettingsError("warmup_seconds", f"must be in [0, 10] seconds, not {s.warmup_seconds}")
     if not 1 <= s.cycles <= 100:
         raise SettingsError("cycles", f"must be a whole number in [1, 100], not {s.cycles}")
+    longest = max_warmup_cycles(s.warmup_seconds) + s.cycles
+    if not max(MIN_HORIZON_CYCLES, longest) <= s.horizon_cycles <= 200:
+        raise SettingsError(
+            "horizon_cycles",
+            f"must be a whole number from {max(MIN_HORIZON_CYCLES, longest)} (at least {MIN_HORIZON_CYCLES}, "
+            f"and no fewer than the warm-up and scored cycles of the fastest gait, {longest}) to 200, not "
+            f"{s.horizon_cycles}",
+        )
     if not 0 <= s.threads <= MAX_THREADS:
         raise SettingsError("threads", f"must be in [0, {MAX_THREADS}] (0: all cores), not {s.threads}")
     if s.simulated_seconds > MAX_SIMULATED_SECONDS:
         raise SettingsError(
-            "cycles",
-            f"{s.cycles} cycles at Froude number {s.froude} simulate {s.simulated_seconds:.0f} s per gait; "
-            f"at most {MAX_SIMULATED_SECONDS:.0f} s are allowed (fewer cycles, or a faster gait)",
+            "horizon_cycles",
+            f"{s.horizon_cycles} cycles at Froude number {s.froude} simulate {s.simulated_seconds:.0f} s "
+            f"for a kept gait; at most {MAX_SIMULATED_SECONDS:.0f} s are allowed (a shorter horizon, or a "
+            "faster gait)",
         )
 
 

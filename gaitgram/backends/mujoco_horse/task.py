@@ -1,7 +1,9 @@
-"""The walking task: what a gait should achieve, from the Froude number (the paper's Sec. 3.2).
+"""The walking task: what a gait should achieve, how it is scored, and when it is a walk.
 
-Physics-free (dm_control's split of task from model): targets and the fitness
-formula only. Sources and formulas are in ``docs/fitness.md``.
+Physics-free (dm_control's split of task from model): targets from the Froude
+number (the paper's Sec. 3.2), the fitness formula, and walk criterion v2, all
+plain functions of the measures of :mod:`~gaitgram.backends.mujoco_horse.measures`.
+Sources and formulas are in ``docs/fitness.md``.
 
 The paper writes Fr = v / sqrt(g h), with h the hip height; Alexander & Jayes
 (1983) use Fr' = v^2 / (g h) = Fr^2. Predictions:
@@ -21,27 +23,48 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gaitgram.backends.mujoco_horse.measures import HOOVES, CycleMeasures, WindowMeasures
+
 G = 9.81
 
 #: Bumped whenever a gait could score differently (targets, metrics, formula): runs record it, and
-#: a run scored under another revision is not resumed.
-TASK_REVISION = 3  # 2: strides from footfalls, capped components, unviable score, walk; 3: 0.2 s swing
+#: a run scored under another revision is not resumed. 2: strides from footfalls, capped
+#: components, unviable score, walk; 3: 0.2 s swing; 4: steady-state cycles after a warm-up,
+#: steadiness, a horizon for the gaits a run keeps, walk criterion v2.
+TASK_REVISION = 4
 
 #: (sqrt(Fr'), duty factor) read from Alexander & Jayes (1983).
 DUTY_FACTOR_POINTS = ((0.0, 0.75), (0.45, 0.65), (0.7, 0.55), (1.0, 0.45), (1.6, 0.35), (2.5, 0.27))
 
-#: Fraction of the cycle at which each limb's footfall comes, walk (lateral sequence).
+#: Fraction of the cycle at which each limb's footfall comes, walk (lateral sequence): the phases
+#: the backend plays each limb's curve at.
 WALK_PHASE_OFFSETS = {"hind_left": 0.0, "fore_left": 0.25, "hind_right": 0.5, "fore_right": 0.75}
 
 #: A comfortable walk: about 1.6 m/s for a horse with a 1.14 m hip height.
 DEFAULT_FROUDE = 0.48
 
-#: Default fitness weights: errors relative to the prediction, energy as a cost of transport.
-#: ``frequency`` is measured and reported but not scored by default: the paper imposes it.
-DEFAULT_WEIGHTS = {"velocity": 1.0, "duty_factor": 1.0, "stride": 1.0, "frequency": 0.0, "energy": 0.1}
+#: Default fitness weights: errors relative to the prediction, energy as a cost of transport,
+#: steadiness as the spread of the per-cycle speeds. ``frequency`` is measured and reported but
+#: not scored by default: a gait at the target speed with the target stride has it.
+DEFAULT_WEIGHTS = {
+    "velocity": 1.0,
+    "duty_factor": 1.0,
+    "stride": 1.0,
+    "frequency": 0.0,
+    "energy": 0.1,
+    "steadiness": 1.0,
+}
 
-#: Table 2 of the paper: every component weighted 1 ("distance" is the velocity term).
-PAPER_WEIGHTS = {"velocity": 1.0, "duty_factor": 1.0, "stride": 1.0, "frequency": 0.0, "energy": 1.0}
+#: Table 2 of the paper: every component it has weighted 1 ("distance" is the velocity term); the
+#: paper has no steadiness term.
+PAPER_WEIGHTS = {
+    "velocity": 1.0,
+    "duty_factor": 1.0,
+    "stride": 1.0,
+    "frequency": 0.0,
+    "energy": 1.0,
+    "steadiness": 0.0,
+}
 
 #: No component counts for more than this (500 % error): one absurd measure cannot swamp the rest,
 #: and every viable fitness is at most COMPONENT_CAP x the sum of the weights.
@@ -55,9 +78,57 @@ UNVIABLE_COMPONENT = 2 * COMPONENT_CAP
 #: (a horse's is about 0.7 Hz) to a fast trot (about 1.6 Hz), with room on either side.
 CYCLE_FREQUENCIES = (0.3, 3.0)
 
-#: A walk, for the walk rate: speed within 10 % of the target and duty factor within 0.05.
+
+# ---- walk criterion v2 -------------------------------------------------------------------------
+
+#: Speed: every measured cycle within this share of the target speed.
 WALK_SPEED_TOLERANCE = 0.10
-WALK_DUTY_TOLERANCE = 0.05
+#: Duty factor (mean over the hooves, every cycle) from the lower quartile of the DLC_Horse walks
+#: (seeds/dlc_walk.json: median 0.588, IQR 0.55-0.63) to Alexander & Jayes' value at the target
+#: Froude number plus this margin.
+WALK_DUTY_LOW = 0.55
+WALK_DUTY_MARGIN = 0.05
+#: Footfalls after the left hind's, as a share of its stride: the DLC_Horse walks' medians.
+WALK_FOOTFALLS = {"fore_left": 0.25, "hind_right": 0.50, "fore_right": 0.731}
+#: How far a footfall may be from them: 2 SD of the real walks' left-fore phase (SD from the
+#: IQR, 0.211-0.278, as IQR / 1.349). A trot lands the left fore at 0.5, a pace at 0.
+WALK_FOOTFALL_TOLERANCE = 0.10
+#: Stride length and frequency, every stride: within this share of what Alexander's relation
+#: predicts at the gait's own speed (horses scatter 3-4 % about a common fit at equal Froude
+#: number, Bullimore & Burn 2006; species follow Alexander's line within about 20-30 %).
+WALK_STRIDE_TOLERANCE = 0.15
+#: Trunk pitch and roll: within this many degrees of level at every step (Dunbar et al. 2008:
+#: horses keep the trunk within 20 degrees in every plane and gait) ...
+WALK_TILT_LIMIT = 10.0
+#: ... and a pitch range within a cycle no larger than the flexion-extension of the back at the
+#: walk (Faber et al. 2000: about 7 degrees), a roll range no larger than its axial rotation
+#: (about 13 degrees at the tuber coxae).
+WALK_PITCH_RANGE = 7.0
+WALK_ROLL_RANGE = 13.0
+#: Steady: the per-cycle speeds spread by no more than this share of the target speed.
+STEADY_SPREAD = 0.05
+
+
+@dataclass(frozen=True)
+class WalkTerm:
+    """One term of the walk criterion: its component name, what it asks, and where that is from."""
+
+    name: str
+    asks: str
+
+
+#: The terms, in the order a report lists them; each is a 0/1 component ``walk_<name>``.
+WALK_TERMS: tuple[WalkTerm, ...] = (
+    WalkTerm("speed", "every cycle within 10 % of the target speed"),
+    WalkTerm("duty_factor", "every cycle's duty factor between 0.55 and the target's + 0.05"),
+    WalkTerm("footfalls", "four-beat lateral sequence, each footfall within 0.10 of the real walk's phase"),
+    WalkTerm("stride_length", "every stride within 15 % of Alexander's length at the gait's speed"),
+    WalkTerm("stride_frequency", "every stride within 15 % of the frequency that length implies"),
+    WalkTerm("trunk", "pitch and roll within 10 degrees of level, per-cycle ranges within 7 and 13"),
+    WalkTerm("steady", "per-cycle speeds within a spread of 5 % of the target speed"),
+    WalkTerm("sustained", "upright, and every term held, over every cycle of the horizon"),
+)
+WALK_COMPONENTS = tuple(f"walk_{term.name}" for term in WALK_TERMS)
 
 
 @dataclass(frozen=True)
@@ -69,6 +140,15 @@ class GaitTargets:
     stride_frequency: float  # Hz
     duty_factor: float
     phase_offsets: Mapping[str, float]
+
+    @property
+    def duty_window(self) -> tuple[float, float]:
+        """The walk's duty factors: from the real walks' lower quartile to the prediction + margin."""
+        return WALK_DUTY_LOW, self.duty_factor + WALK_DUTY_MARGIN
+
+    def stride_at(self, speed: float | np.ndarray) -> float | np.ndarray:
+        """Alexander's stride length (m) at ``speed`` for this hip height."""
+        return self.hip_height * 2.3 * (np.asarray(speed) ** 2 / (G * self.hip_height)) ** 0.3
 
 
 def duty_factor_for(froude: float) -> float:
@@ -94,37 +174,59 @@ def walk_targets(froude: float = DEFAULT_FROUDE, hip_height: float = 1.14) -> Ga
     )
 
 
-@dataclass(frozen=True)
-class GaitMetrics:
-    """What the simulation measured over the scored cycles."""
+def walk_terms(measures: CycleMeasures, targets: GaitTargets) -> dict[str, bool]:
+    """Each term of walk criterion v2 but ``sustained``, judged on every cycle of ``measures``.
 
-    velocity: float  # mean forward speed of the trunk, m/s
-    duty_factor: float  # mean over hooves of the share of time on the ground
-    stride_length: float  # mean over hooves of the forward distance between successive touchdowns, m
-    stride_frequency: float  # mean over hooves of 1 / the time between successive touchdowns, Hz
-    work_per_cycle: float  # actuator work per cycle, J (positive and negative work both cost)
+    A term holds only if it holds in each cycle and for each stride, so that measuring more of
+    the same cycles cannot turn a walk into something else: window means lie within the bounds
+    that every cycle meets."""
+    cycles = set(range(len(measures)))
+    if not cycles:
+        return {term.name: False for term in WALK_TERMS if term.name != "sustained"}
+    low, high = targets.duty_window
+    duty = measures.duty_factor.mean(axis=1)
+    # Every stride of every hoof, at the speed of the cycle it closes in; in each cycle every hoof
+    # must close one.
+    cycle_of, length, frequency = measures.all_strides.T
+    at_speed = measures.speed[cycle_of.astype(int)]
+    predicted = np.asarray(targets.stride_at(at_speed))
+    stepping = not np.isnan(measures.stride_length).any()
+    expected = np.array([0.0, *(WALK_FOOTFALLS[hoof] for hoof in HOOVES[1:])])
+    return {
+        "speed": bool(np.all(np.abs(measures.speed / targets.velocity - 1) <= WALK_SPEED_TOLERANCE)),
+        "duty_factor": bool(np.all((duty >= low) & (duty <= high))),
+        "footfalls": set(measures.stride_cycles.tolist()) == cycles
+        and bool(np.all(np.abs(measures.phases - expected) <= WALK_FOOTFALL_TOLERANCE)),
+        "stride_length": stepping and bool(np.all(np.abs(length / predicted - 1) <= WALK_STRIDE_TOLERANCE)),
+        "stride_frequency": stepping
+        and bool(np.all(np.abs(frequency * predicted / at_speed - 1) <= WALK_STRIDE_TOLERANCE)),
+        "trunk": bool(
+            np.all(np.abs(measures.pitch) <= WALK_TILT_LIMIT)
+            and np.all(np.abs(measures.roll) <= WALK_TILT_LIMIT)
+            and np.all(np.ptp(measures.pitch, axis=1) <= WALK_PITCH_RANGE)
+            and np.all(np.ptp(measures.roll, axis=1) <= WALK_ROLL_RANGE)
+        ),
+        "steady": bool(np.ptp(measures.speed) <= STEADY_SPREAD * targets.velocity),
+    }
 
 
-def fitness_components(metrics: GaitMetrics, targets: GaitTargets, mass: float) -> dict[str, float]:
+# ---- fitness -----------------------------------------------------------------------------------
+
+
+def fitness_components(measured: WindowMeasures, targets: GaitTargets, mass: float) -> dict[str, float]:
     """Each component is dimensionless, so weights compare like with like; each is capped at
     :data:`COMPONENT_CAP`."""
     raw = {
-        "velocity": abs(metrics.velocity - targets.velocity) / targets.velocity,
-        "duty_factor": abs(metrics.duty_factor - targets.duty_factor) / targets.duty_factor,
-        "stride": abs(metrics.stride_length - targets.stride_length) / targets.stride_length,
-        "frequency": abs(metrics.stride_frequency - targets.stride_frequency) / targets.stride_frequency,
-        # Cost of transport: work per cycle over the work of lifting the body one stride.
-        "energy": metrics.work_per_cycle / (mass * G * targets.stride_length),
+        "velocity": abs(measured.velocity - targets.velocity) / targets.velocity,
+        "duty_factor": abs(measured.duty_factor - targets.duty_factor) / targets.duty_factor,
+        "stride": abs(measured.stride_length - targets.stride_length) / targets.stride_length,
+        "frequency": abs(measured.stride_frequency - targets.stride_frequency) / targets.stride_frequency,
+        # Cost of transport at the target speed: mean power over the weight times that speed
+        # (revision 3's work per target cycle over m g lambda*, the same quantity).
+        "energy": measured.power / (mass * G * targets.velocity),
+        "steadiness": measured.speed_spread / targets.velocity,
     }
     return {name: min(value, COMPONENT_CAP) for name, value in raw.items()}
-
-
-def is_walk(metrics: GaitMetrics, targets: GaitTargets) -> bool:
-    """The walk-rate criterion: near the target speed and the target duty factor."""
-    return (
-        abs(metrics.velocity - targets.velocity) <= WALK_SPEED_TOLERANCE * targets.velocity
-        and abs(metrics.duty_factor - targets.duty_factor) <= WALK_DUTY_TOLERANCE
-    )
 
 
 def weighted_fitness(components: Mapping[str, float], weights: Mapping[str, float]) -> float:
