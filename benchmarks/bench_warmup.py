@@ -27,7 +27,7 @@ from gaitgram.motion.gait import MotionBatch
 from gaitgram.seed import load_seed
 
 ROOT = Path(__file__).resolve().parents[1]
-STUDY = ROOT / "docs" / "results" / "strategies" / "runs" / "arms"
+STUDY = ROOT / "docs" / "results" / "revision-3" / "strategies" / "runs" / "arms"
 CYCLES = 30
 WITHIN = 0.02
 

@@ -43,9 +43,15 @@ def _results_index(config: MkDocsConfig) -> str:
         "their exact commands and a reading of what they show:",
         "",
     ]
-    for readme in sorted(Path(config.docs_dir, "results").glob("*/README.md")):
+    results = Path(config.docs_dir, "results")
+    for readme in sorted(results.glob("*/README.md")):
         title = readme.read_text(encoding="utf-8").splitlines()[0].lstrip("# ").strip()
         lines.append(f"- [{title}]({readme.parent.name}/README.md)")
+    for older in sorted(results.glob("revision-*"), reverse=True):
+        lines += ["", f"Superseded, scored under fitness {older.name.replace('-', ' ')}:", ""]
+        for readme in sorted(older.glob("*/README.md")):
+            title = readme.read_text(encoding="utf-8").splitlines()[0].lstrip("# ").strip()
+            lines.append(f"- [{title}]({older.name}/{readme.parent.name}/README.md)")
     return "\n".join(lines) + "\n"
 
 

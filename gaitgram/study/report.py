@@ -182,7 +182,7 @@ def _load_run(path: Path, generations: int) -> RunRecord:
 
 def _holds_walk(path: Path, final: dict[str, Any]) -> bool | None:
     """Whether the run hands back a walk, even one its weighted best is not: a weighted sum can rank
-    a walk below a gait that misses the walk window (docs/results/strategies)."""
+    a walk below a gait that misses the walk window (docs/results/revision-3/strategies)."""
     try:
         members = kept_members(path)
     except RecordError as error:

@@ -19,7 +19,7 @@ from gaitgram.backends.mujoco_horse.task import TASK_REVISION
 from gaitgram.cli import app
 
 ROOT = Path(__file__).resolve().parents[2]
-OLD_ARM = ROOT / "docs/results/strategies/runs/arms/ge-hybrid"
+OLD_ARM = ROOT / "docs/results/revision-3/strategies/runs/arms/ge-hybrid"
 runner = CliRunner()
 pytestmark = pytest.mark.skipif(
     not OLD_ARM.is_dir(), reason="the committed study runs are not in this source tree (the sdist omits them)"
