@@ -100,19 +100,19 @@ def command(
         else:
             if grammar is None:
                 raise typer.BadParameter("give a grammar to evolve, or --resume DIR", param_hint="GRAMMAR")
+            if out is not None:
+                RunDirectory.check_new(out)  # before any work
             values = parse_defines(defines)
             pipeline = Pipeline.build(load_usable(grammar, values), load_config(config, given))
+            if out is None:
+                out = Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}"
+                RunDirectory.check_new(out)
             load_strategy(pipeline)  # its library is installed, before anything is written
         # Everything is checked and the backend loaded before a new run directory is made.
         evaluator = _evaluator(pipeline, _runtime(pipeline, threads), scheduler, dask_local)
         if resume is None:
             try:
-                directory = RunDirectory.create(
-                    out or Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}",
-                    pipeline,
-                    defines=values,
-                    origin=str(grammar),
-                )
+                directory = RunDirectory.create(out, pipeline, defines=values, origin=str(grammar))
             except RunDirectoryError:
                 evaluator.close()
                 raise

@@ -95,7 +95,7 @@ def grammar(
 ) -> None:
     """Write a grammar from the seed in one of the paper's styles."""
     if output is not None:
-        check_output(output, force=force)
+        check_output(output, force=force, flag="-o")
     seed = _seed(seed_csv)
     command = (
         f"gaitgram seed grammar --style {style.value}"
@@ -135,7 +135,7 @@ def derive(
     from gaitgram.extras import MissingExtra
     from gaitgram.seed.dlc import DlcError, measure, read_clip, summarise
 
-    check_output(output, force=force)
+    check_output(output, force=force, flag="-o")
     try:
         files = sorted(
             f
