@@ -414,7 +414,7 @@ def best_walk_of_runs(directory: RunDirectory) -> KeptGait:
     best is no walk may still hold one. Kept sets are read from their records; whoever shows the
     gait re-scores it and compares with the recorded evaluation.
     """
-    found: list[KeptGait] = []
+    viable: list[KeptGait] = []
     for run, state in _last_states(directory):
         try:
             members = kept_members(directory.run_dir(run))
@@ -424,7 +424,13 @@ def best_walk_of_runs(directory: RunDirectory) -> KeptGait:
             kept = [KeptGait(run, state.generation, i.genome, i.evaluation) for i in state.population]
         else:
             kept = [_kept_gait(m, run, state.generation) for m in members]
-        found += [k for k in kept if k.evaluation.status is GaitStatus.OK and _walks(k.evaluation)]
+        viable += [k for k in kept if k.evaluation.status is GaitStatus.OK]
+    if viable and not any(WALK in k.evaluation.components for k in viable):
+        raise RunDirectoryError(
+            f"the {directory.pipeline.backend} backend of {directory.path} does not judge walks (its "
+            f"evaluations have no {WALK!r} component); drop --walk to see the run's best gait"
+        )
+    found = [k for k in viable if _walks(k.evaluation)]
     if not found:
         raise RunDirectoryError(
             f"no run in {directory.path} hands back a walk (a viable gait within the walk window of "
@@ -433,8 +439,12 @@ def best_walk_of_runs(directory: RunDirectory) -> KeptGait:
     return min(found, key=lambda k: (k.evaluation.fitness, k.run))
 
 
+#: The component a backend that judges walks reports: 1 for a walk, 0 otherwise.
+WALK = "walk"
+
+
 def _walks(evaluation: Evaluation) -> bool:
-    return evaluation.components.get("walk", 0.0) >= 0.5
+    return evaluation.components.get(WALK, 0.0) >= 0.5
 
 
 def _kept_gait(member: dict[str, Any], run: int, generation: int) -> KeptGait:

@@ -221,3 +221,21 @@ def test_a_failed_study_leaves_no_directories_behind(here: Path) -> None:
     assert done.exit_code == 2
     assert "<nope> is not defined" in done.stderr
     assert not (here / "studies").exists()
+
+
+# ---- --walk on a backend that judges no walks -----------------------------------------------------
+
+
+def test_walk_on_a_backend_without_walks_says_so(here: Path) -> None:
+    curve_run(here)
+    for command in (
+        ["evaluate", "--run", "ge", "--walk"],
+        ["render", "--run", "ge", "--walk", "-o", "w.gif"],
+    ):
+        done = runner.invoke(app, command)
+        assert done.exit_code == 2
+        assert done.stderr == (
+            "error: the curve-match backend of ge does not judge walks (its evaluations have no 'walk' "
+            "component); drop --walk to see the run's best gait\n"
+        )
+    assert not (here / "w.gif").exists()
