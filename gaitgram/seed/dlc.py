@@ -209,7 +209,7 @@ def _read_csv(path: Path) -> NDArray[np.float64]:
     values = array("d")
     reader = None
     try:
-        with path.open(newline="", encoding="utf-8") as handle:
+        with path.open(newline="", encoding="utf-8-sig") as handle:  # a byte order mark is allowed
             reader = csv.reader(_lines(handle, path))
             header = [next(reader, []) for _ in range(3)]
             if header[0][:1] != ["scorer"]:
@@ -217,7 +217,8 @@ def _read_csv(path: Path) -> NDArray[np.float64]:
             names = list(dict.fromkeys(header[1][1:]))
             if tuple(names) != KEYPOINTS:
                 raise DlcError(
-                    f"{path}:2: its landmarks are {', '.join(names)}; expected {', '.join(KEYPOINTS)}"
+                    f"{path}:2: its landmarks are {', '.join(names) or 'not named'}; expected "
+                    + ", ".join(KEYPOINTS)
                 )
             frames = 0
             for row in reader:

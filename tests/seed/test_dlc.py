@@ -248,6 +248,19 @@ def test_a_malformed_row_names_the_file_and_line(tmp_path: Path, change: str, me
     assert not (tmp_path / "out.json").exists()
 
 
+def test_a_byte_order_mark_is_allowed(tmp_path: Path) -> None:
+    """Excel and Windows tools save CSVs as UTF-8 with a byte order mark."""
+    synthetic_walk(tmp_path / "walk.csv")
+    (tmp_path / "bom.csv").write_bytes(b"\xef\xbb\xbf" + (tmp_path / "walk.csv").read_bytes())
+    plain, marked = (
+        derive(tmp_path / "walk.csv", "-o", tmp_path / "a.json"),
+        derive(tmp_path / "bom.csv", "-o", tmp_path / "b.json"),
+    )
+    assert marked.returncode == 0, marked.stderr
+    assert plain.returncode == 0, plain.stderr
+    assert (tmp_path / "a.json").read_text() == (tmp_path / "b.json").read_text()
+
+
 def test_bad_numeric_options_name_the_flag(tmp_path: Path) -> None:
     from typer.testing import CliRunner
 
