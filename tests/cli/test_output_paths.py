@@ -196,6 +196,32 @@ def test_directory_outputs_are_checked_before_the_work(here: Path) -> None:
     assert everything_in(here) == before
 
 
+@pytest.mark.skipif(IS_ROOT, reason="root may write in any directory")
+def test_a_run_that_cannot_be_written_is_not_resumed(here: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A stopped run whose directory became read-only: refused before a generation is computed,
+    not after, when its checkpoint cannot be written."""
+    import contextlib
+
+    from gaitgram.cli import evolve
+
+    (here / "curve.gg").write_text(CURVE_GRAMMAR)
+    (here / "curve.toml").write_text(CURVE_CONFIG.replace("generations = 1", "generations = 3"))
+    with monkeypatch.context() as patch:  # stopped after its first generation, as by Ctrl-C
+        checkpointed = (here / "ge" / "run-000" / "checkpoint.json").exists
+        patch.setattr(evolve, "stop_on_interrupt", lambda: contextlib.nullcontext(checkpointed))
+        stopped = runner.invoke(app, ["evolve", "curve.gg", "-c", "curve.toml", "-o", "ge", "-q"])
+    assert stopped.exit_code == 130, stopped.stderr
+    stats = (here / "ge" / "run-000" / "stats.jsonl").read_text()
+    (here / "ge" / "run-000").chmod(0o555)
+    try:
+        done = runner.invoke(app, ["evolve", "--resume", "ge", "-q"])
+    finally:
+        (here / "ge" / "run-000").chmod(0o755)
+    assert done.exit_code == 2
+    assert done.stderr == f"error: cannot write in {Path('ge', 'run-000')}: permission denied\n"
+    assert (here / "ge" / "run-000" / "stats.jsonl").read_text() == stats
+
+
 def test_a_failed_report_leaves_nothing_behind(here: Path) -> None:
     """Drawing the gaits of a Pareto front needs the horse: after the tables were written, a
     curve-match front fails, and the report directory (and the parents made for it) goes."""
