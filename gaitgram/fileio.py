@@ -8,7 +8,9 @@ not ``mkstemp``'s private ``0o600``.
 
 Files named on the command line (``-o``, and the grammars ``fmt`` rewrites) go
 through :func:`write_output`, which writes what ``open(path, "w")`` would write
-to, but safely; see its docstring for symlinks, hard links and devices.
+to, but safely; see its docstring for symlinks, hard links and devices. Every
+command checks its outputs with :func:`check_output` before doing any work, so
+that an hour of rendering never ends in "no such directory".
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import errno
 import os
 import stat
 import tempfile
+from collections.abc import Sequence
 from pathlib import Path
 from typing import BinaryIO
 
@@ -40,19 +43,100 @@ def write_atomically(
 
     ``mode`` defaults to ``0o666`` less the umask, as for any new file; ``owner`` is a
     ``(uid, gid)`` to give the new file where permitted (the group alone if only that is);
-    ``parents=False`` leaves a missing directory an error, as ``open()`` does.
+    ``parents=False`` leaves a missing directory an error, as ``open()`` does. An
+    :class:`OSError` names ``path``, never the temporary file, which is gone.
     """
     if parents:
         path.parent.mkdir(parents=True, exist_ok=True)
-    temporary = _temporary_copy(path, text.encode("utf-8") if isinstance(text, str) else text)
+    try:
+        temporary = _temporary_copy(path, text.encode("utf-8") if isinstance(text, str) else text)
+    except OSError as error:
+        raise _naming(error, path) from error
     try:
         if owner is not None:  # before the chmod: a chown clears set-id bits
             _give_owner(temporary, *owner)
         os.chmod(temporary, (0o666 & ~current_umask()) if mode is None else mode)
         os.replace(temporary, path)
-    except BaseException:
+    except BaseException as error:
         Path(temporary).unlink(missing_ok=True)
+        if isinstance(error, OSError):
+            raise _naming(error, path) from error
         raise
+
+
+def _naming(error: OSError, path: Path) -> OSError:
+    """The same error (its subclass too: ``OSError(errno, ...)`` picks it), about ``path``."""
+    return OSError(error.errno, error.strerror or str(error), str(path))
+
+
+class OutputError(ValueError):
+    """An output that cannot be written; the message names the path as the user wrote it."""
+
+
+def check_output(
+    path: Path, *, force: bool = False, directory: bool = False, parents: bool = False, flag: str = ""
+) -> None:
+    """Raise :class:`OutputError` if :func:`write_output` (or, with ``directory``, making a
+    directory there and files in it) would fail or overwrite a file without ``force``.
+
+    Checked: an existing directory where a file is meant (or a file where a directory is), an
+    existing regular file without ``force``, a missing directory above the path (unless
+    ``parents``: the command makes it), a file above it, and write permission where the file or
+    directory would be made. A device, a FIFO or a path under ``/dev`` or ``/proc``
+    (``/dev/null``, ``/dev/stdout``) is an output to write to, never to replace: ``force`` is not
+    needed. Nothing is created; as for any check before the fact, a later write can still fail
+    (a full disk), and says so then. ``flag`` (``--out``) names the option, for the remedy.
+    """
+    elsewhere, or_elsewhere = (
+        (f"; choose another {flag}", f", or choose another {flag}") if flag else ("", "")
+    )
+    if not directory and is_stream(path) and os.path.exists(path):  # /dev/stdout: a link into /proc
+        if os.path.isdir(path):
+            raise OutputError(f"cannot write {path}: is a directory{elsewhere}")
+        if not os.access(path, os.W_OK):
+            raise OutputError(f"cannot write {path}: permission denied{elsewhere}")
+        return
+    target = Path(os.path.realpath(path)) if os.path.islink(path) else path  # a dangling link: its target
+    if os.path.exists(target):
+        if os.path.isdir(target) != directory:
+            if directory:
+                raise OutputError(f"cannot make the directory {path}: a file of that name exists{elsewhere}")
+            raise OutputError(f"cannot write {path}: is a directory{elsewhere}")
+        if directory:
+            if not os.access(target, os.W_OK | os.X_OK):
+                raise OutputError(f"cannot write in {path}: permission denied{elsewhere}")
+            return
+        if os.path.isfile(target) and not force:
+            raise OutputError(f"{path} exists; pass --force to overwrite it{or_elsewhere}")
+        if not os.access(target, os.W_OK):
+            raise OutputError(f"cannot write {path}: permission denied (the file is read-only){elsewhere}")
+        return
+    missing = []
+    above = target.parent
+    while not os.path.exists(above) and above != above.parent:
+        missing.append(above)
+        above = above.parent
+    if not os.path.isdir(above):
+        raise OutputError(f"cannot write {path}: {above} is not a directory{elsewhere}")
+    if not os.access(above, os.X_OK):
+        raise OutputError(f"cannot write {path}: permission denied (cannot look in {above}){elsewhere}")
+    if missing and not parents:
+        raise OutputError(
+            f"cannot write {path}: no such directory {missing[0]}; create it first{or_elsewhere}"
+        )
+    if not os.access(above, os.W_OK | os.X_OK):
+        raise OutputError(
+            f"cannot write {path}: permission denied (cannot create files in {above}){elsewhere}"
+        )
+
+
+def check_rewritable(path: Path) -> None:
+    """Raise :class:`OutputError` unless ``path`` is a regular file this process may rewrite in
+    place (``fmt``, ``check --fix``): not a FIFO or ``/dev/fd/N`` (read fine, but no file to
+    rewrite), not a read-only file."""
+    if not path.is_file():
+        raise OutputError(f"cannot write {path}: not a regular file")
+    check_output(path, force=True)
 
 
 def write_output(path: Path, data: str | bytes) -> None:
@@ -70,7 +154,7 @@ def write_output(path: Path, data: str | bytes) -> None:
     - A directory raises :class:`IsADirectoryError`.
     """
     payload = data.encode("utf-8") if isinstance(data, str) else data
-    if _is_stream(path):
+    if is_stream(path):
         with open(path, "wb") as handle:
             handle.write(payload)
         return
@@ -103,7 +187,24 @@ def write_output(path: Path, data: str | bytes) -> None:
             _write_in_place(target, payload, copy=False)
 
 
-def _is_stream(path: Path) -> bool:
+def write_outputs(files: Sequence[tuple[Path, str | bytes]]) -> None:
+    """Write several outputs (:func:`write_output`), in order, as one: if one fails, the files this
+    call created are removed again, and the error names that output's path as given (never a
+    temporary file beside it). Files it replaced keep their new content."""
+    made: list[Path] = []
+    for path, data in files:
+        new = not os.path.lexists(path)
+        try:
+            write_output(path, data)
+        except OSError as error:
+            for done in made:
+                done.unlink(missing_ok=True)
+            raise _naming(error, path) from error
+        if new:
+            made.append(path)
+
+
+def is_stream(path: Path) -> bool:
     """``/dev/stdout``, ``/dev/fd/3``, ``/proc/self/fd/1``: names of open streams, not files to replace."""
     parts = Path(os.path.abspath(path)).parts
     return os.name == "posix" and len(parts) > 2 and parts[1] in ("dev", "proc")

@@ -20,7 +20,7 @@ from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.cli.output import as_json, effective_severity, human, plural, print_source_error
 from gaitgram.cli.sarif import CheckedFile, sarif_log
 from gaitgram.diagnostics import Severity
-from gaitgram.fileio import write_output
+from gaitgram.fileio import OutputError, check_rewritable, write_output
 from gaitgram.language import SourceError, parse
 from gaitgram.language.source import decode_source, describe_os_error, read_bytes
 
@@ -149,8 +149,7 @@ def _write(err: Console, path: Path, read: bytes, outcome: FixOutcome) -> bool:
     """Write the fixed text over ``path``, as it was read (byte order mark, line breaks) but
     for the fixes; refused if the file changed since it was read. False if not written."""
     try:
-        if not path.is_file():  # a FIFO or /dev/fd/N read fine, but there is no file to rewrite
-            raise OSError(0, "not a regular file")
+        check_rewritable(path)  # a regular file, not read-only
         if read_bytes(path) != read:
             err.print(
                 f"error: {path} changed while it was being fixed; not written (run the command again)",
@@ -160,6 +159,9 @@ def _write(err: Console, path: Path, read: bytes, outcome: FixOutcome) -> bool:
         write_output(path, _as_read(read, outcome.original.text, outcome.text))
     except SourceError as error:
         err.print(f"error: cannot write {path}: {error.message}", style="bold red")
+        return False
+    except OutputError as error:
+        err.print(f"error: {error}", style="bold red")
         return False
     except OSError as error:
         err.print(f"error: cannot write {path}: {describe_os_error(error)}", style="bold red")

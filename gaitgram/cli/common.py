@@ -10,10 +10,10 @@ from types import ModuleType
 import typer
 from rich.console import Console
 
+from gaitgram import fileio
 from gaitgram.analysis import CheckResult, check
 from gaitgram.cli.output import human, print_source_error
 from gaitgram.extras import MissingExtra, require
-from gaitgram.fileio import write_output
 from gaitgram.language import SourceError, parse
 from gaitgram.language.source import (
     MAX_SOURCE_BYTES,
@@ -35,23 +35,30 @@ def require_extra(module: str, purpose: str) -> ModuleType:
         raise typer.Exit(2) from None
 
 
-def check_output(path: Path, *, force: bool) -> None:
-    """Refuse, before any work is done, an output that is a directory or an existing file
-    without ``--force`` (a device or FIFO, such as /dev/null, is written to, never replaced)."""
-    if path.is_dir():
-        err.print(f"error: cannot write {path}: is a directory", style="bold red")
-        raise typer.Exit(2)
-    if path.is_file() and not force:
-        err.print(f"error: {path} exists; pass --force to overwrite it", style="bold red")
-        raise typer.Exit(2)
+def check_output(
+    path: Path, *, force: bool, directory: bool = False, parents: bool = False, flag: str = ""
+) -> None:
+    """Refuse, before any work is done, an output that cannot be written
+    (:func:`gaitgram.fileio.check_output`): print why, naming the path as given, and exit 2."""
+    try:
+        fileio.check_output(path, force=force, directory=directory, parents=parents, flag=flag)
+    except fileio.OutputError as error:
+        err.print(f"error: {error}", style="bold red", markup=False)
+        raise typer.Exit(2) from None
 
 
 def write_or_exit(path: Path, data: str | bytes) -> None:
     """Write an output file safely (:func:`gaitgram.fileio.write_output`), or say why not and exit 2."""
+    write_all_or_exit([(path, data)])
+
+
+def write_all_or_exit(files: list[tuple[Path, str | bytes]]) -> None:
+    """Write several outputs as one (:func:`gaitgram.fileio.write_outputs`: none left half-made),
+    or say which could not be written and why, and exit 2."""
     try:
-        write_output(path, data)
+        fileio.write_outputs(files)
     except OSError as error:
-        err.print(f"error: cannot write {path}: {describe_os_error(error)}", style="bold red")
+        err.print(f"error: cannot write {error.filename}: {describe_os_error(error)}", style="bold red")
         raise typer.Exit(2) from None
 
 

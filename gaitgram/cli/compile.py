@@ -39,7 +39,7 @@ def command(
     """
     result = load_usable(grammar, parse_defines(defines))  # the grammar's errors come first
     if str(output) != "-":
-        check_output(output, force=force)
+        check_output(output, force=force, flag="-o")
     options = MappingOptions(codons, max_wraps, max_depth)
     if target is Target.JSON:
         text = to_json(result.grammar, options)

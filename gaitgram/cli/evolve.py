@@ -13,7 +13,7 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
 from gaitgram.backends.api import Evaluator
-from gaitgram.cli.common import err, load_usable
+from gaitgram.cli.common import check_output, err, load_usable
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.evolution.config import ConfigError, RunConfig, load_config, with_overrides
 from gaitgram.evolution.engine import CheckpointError, GenerationStats, load_checkpoint
@@ -100,19 +100,19 @@ def command(
         else:
             if grammar is None:
                 raise typer.BadParameter("give a grammar to evolve, or --resume DIR", param_hint="GRAMMAR")
+            if out is not None:
+                RunDirectory.check_new(out)  # before any work
             values = parse_defines(defines)
             pipeline = Pipeline.build(load_usable(grammar, values), load_config(config, given))
+            if out is None:
+                out = Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}"
+                RunDirectory.check_new(out)
             load_strategy(pipeline)  # its library is installed, before anything is written
         # Everything is checked and the backend loaded before a new run directory is made.
         evaluator = _evaluator(pipeline, _runtime(pipeline, threads), scheduler, dask_local)
         if resume is None:
             try:
-                directory = RunDirectory.create(
-                    out or Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}",
-                    pipeline,
-                    defines=values,
-                    origin=str(grammar),
-                )
+                directory = RunDirectory.create(out, pipeline, defines=values, origin=str(grammar))
             except RunDirectoryError:
                 evaluator.close()
                 raise
@@ -198,6 +198,9 @@ def _resume(
 ) -> RunDirectory:
     """Open the run and refuse anything on the command line that disagrees with it."""
     directory = RunDirectory.open(path)
+    for place in (path, *(directory.run_dir(run) for run in range(directory.config.runs))):
+        if place.exists():  # checkpoints are written there: before a generation is computed
+            check_output(place, force=False, directory=True)
     found: list[str] = []
     if out is not None and out.resolve() != path.resolve():
         found.append(f"--out {out}: a resumed run stays in {path}")

@@ -10,7 +10,7 @@ import typer
 from rich.console import Console
 
 from gaitgram.cli.output import human, plural, print_source_error
-from gaitgram.fileio import write_output
+from gaitgram.fileio import OutputError, check_rewritable, write_output
 from gaitgram.language.formatter import FormatError, FormatRefused, format_text
 from gaitgram.language.source import SourceError, describe_os_error, read_source
 
@@ -65,9 +65,12 @@ def command(
             err.print(f"would reformat {path}")
         else:
             try:
-                if not path.is_file():  # a FIFO or /dev/fd/N read fine, but there is no file to rewrite
-                    raise OSError(0, "not a regular file")
+                check_rewritable(path)  # a regular file, not read-only
                 write_output(path, formatted)
+            except OutputError as error:
+                failed += 1
+                err.print(f"error: {error}", style="bold red")
+                continue
             except OSError as error:
                 failed += 1
                 err.print(f"error: cannot write {path}: {describe_os_error(error)}", style="bold red")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from typing import Annotated
 
 import typer
@@ -43,3 +45,17 @@ def parse_defines(raw: list[str] | None) -> dict[str, int]:
                 f"{item!r}: {value!r} is not an integer", param_hint="--define"
             ) from None
     return defines
+
+
+def within(flag: str, low: float, high: float, unit: str = "") -> Callable[[float], float]:
+    """A callback for a float option: a finite number from ``low`` to ``high``, or a usage error
+    (exit 2) naming the flag. typer's ``min``/``max`` let ``inf`` and ``nan`` through."""
+
+    def check(value: float) -> float:
+        if not (math.isfinite(value) and low <= value <= high):
+            raise typer.BadParameter(
+                f"{value:g} is not a number from {low:g} to {high:g}{unit}", param_hint=flag
+            )
+        return value
+
+    return check

@@ -28,7 +28,7 @@ def command(
     require_extra("matplotlib", "plots")
     if output.suffix.lower() not in (".png", ".svg", ".pdf"):
         raise typer.BadParameter("the output must end in .png, .svg or .pdf", param_hint="--output")
-    check_output(output, force=force)
+    check_output(output, force=force, flag="-o")
     codon_values = read_genome(genome, genome_file)
     checked = load_usable(grammar, parse_defines(defines))
     derivation = compile_mapper(checked.grammar, codons=codons, max_wraps=max_wraps).map(codon_values)

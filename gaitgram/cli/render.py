@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from gaitgram.cli.common import err
+from gaitgram import fileio
+from gaitgram.cli.common import check_output, err, write_all_or_exit
 from gaitgram.cli.options import Defines, Walk
 from gaitgram.cli.selection import SelectedGait, SelectionError, select_gait
 from gaitgram.extras import MissingExtra
@@ -101,6 +102,11 @@ def command(
         require_writers(output)  # the format from the suffix, and its extra: before any work
     except (RenderError, MissingExtra) as error:
         raise fail(str(error)) from None
+    strip = strip or output.with_suffix(".png")
+    check_output(output, force=force, flag="-o")
+    check_output(strip, force=force, flag="--strip")
+    if not fileio.is_stream(strip) and os.path.realpath(strip) == os.path.realpath(output):
+        raise fail(f"--strip {strip} is the animation's own file; give the strip another name")
     overrides = {"codons": codons.value if codons is not None else None, "max_wraps": max_wraps}
     try:
         chosen = select_gait(
@@ -121,34 +127,34 @@ def command(
         if gait is not None and gait.pipeline.backend != "mujoco-horse":
             backend = gait.pipeline.backend
             raise fail(f"render draws the mujoco-horse backend; {gait.describe} is scored by {backend!r}")
-    strip = strip or output.with_suffix(".png")
-    for path in (output, strip):
-        if path.exists() and not force:
-            raise fail(f"{path} exists; pass --force to overwrite it")
     shown = _Gait.of(chosen)
     beside = None if compare is None else _Gait.of(other) if other is not None else _Gait.seed(chosen)
 
-    from gaitgram.backends.mujoco_horse.render import labelled, side_by_side, write_animation, write_strip
+    from gaitgram.backends.mujoco_horse.render import (
+        animation_format,
+        encode_animation,
+        labelled,
+        side_by_side,
+        strip_png,
+    )
 
     try:
         frames = shown.frames(fps)
         if beside is None:
             animation = frames
-            write_animation(animation, output, fps)
-            write_strip(frames, strip)
+            pictures = strip_png(frames)
         else:
             second = beside.frames(fps)
             animation = side_by_side(labelled(frames, shown.label), labelled(second, beside.label))
-            write_animation(animation, output, fps)
-            write_strip(frames, strip, below=second, labels=(shown.label, beside.label))
+            pictures = strip_png(frames, below=second, labels=(shown.label, beside.label))
+        movie = encode_animation(animation, animation_format(output), fps)
     except RenderError as error:
         raise fail(str(error)) from None
-    except OSError as error:
-        raise fail(f"cannot write {error.filename or output}: {error.strerror or error}") from None
     finally:
         shown.close()
         if beside is not None:
             beside.close()
+    write_all_or_exit([(output, movie), (strip, pictures)])
     what = chosen.describe + (f", beside {beside.label}" if beside is not None else "")
     err.print(f"wrote {output} ({len(animation)} frames) and {strip}; {what}", markup=False)
 

@@ -10,7 +10,7 @@ from typing import Annotated
 
 import typer
 
-from gaitgram.cli.common import err, require_extra
+from gaitgram.cli.common import check_output, err, require_extra
 from gaitgram.strategies.gallery import GalleryError
 from gaitgram.study.report import (
     ArmRecord,
@@ -18,8 +18,7 @@ from gaitgram.study.report import (
     check_comparable,
     load_arm,
     load_study_arms,
-    write_gallery,
-    write_study_report,
+    write_report,
 )
 
 
@@ -84,13 +83,11 @@ def command(
     if gaits or chosen:
         os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is imported
         require_extra("PIL", "animations")
+    check_output(out, force=False, directory=True, parents=True, flag="-o")  # before reading the runs
     try:
         arms, title = arms_of(directories)
         check_comparable(arms)  # before anything is made
-        out.mkdir(parents=True, exist_ok=True)
-        written = write_study_report(arms, out, title=title, force=force, chosen=chosen, gaits=gaits)
-        if gaits or chosen:
-            written += write_gallery(arms, out, gaits=gaits, chosen=chosen)
+        written = write_report(arms, out, title=title, force=force, chosen=chosen, gaits=gaits)
     except (ReportError, GalleryError) as error:
         err.print(f"error: {error}", style="bold red")
         raise typer.Exit(2) from None

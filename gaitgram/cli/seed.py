@@ -10,8 +10,14 @@ from rich.console import Console
 
 from gaitgram import jsonio
 from gaitgram.cli.common import check_output, err, write_or_exit
+from gaitgram.cli.options import within
+from gaitgram.language.source import describe_os_error
 from gaitgram.seed import SeedError, load_seed, read_seed_csv
+from gaitgram.seed.dlc import FPS_RANGE
 from gaitgram.seed.grammars import TARGET_FREQUENCY, Style, fit_seed, write_grammar
+
+#: A Fourier term's amplitude, in degrees: a full turn is the most that means anything.
+THRESHOLD = within("--threshold", 0, 360, " degrees")
 
 app = typer.Typer(
     rich_markup_mode=None,  # help text is plain: brackets, as in pip extras, are kept
@@ -31,7 +37,9 @@ def _seed(path: Path | None):
 @app.command("fit")
 def fit(
     csv: Annotated[Path | None, typer.Argument(help="Seed CSV [the bundled walk].")] = None,
-    threshold: Annotated[float, typer.Option(min=0, help="Drop terms with a smaller amplitude.")] = 1.0,
+    threshold: Annotated[
+        float, typer.Option(callback=THRESHOLD, help="Drop terms with a smaller amplitude (degrees).")
+    ] = 1.0,
     as_json: Annotated[bool, typer.Option("--json", help="One JSON object per joint.")] = False,
 ) -> None:
     """Decompose each joint's curve into a sum of sines and print it as grammar rules, with the
@@ -73,7 +81,8 @@ def grammar(
     ] = None,
     seed_csv: Annotated[Path | None, typer.Option("--seed", help="Seed CSV [the bundled walk].")] = None,
     threshold: Annotated[
-        float, typer.Option(min=0, help="Fourier terms under this amplitude are dropped.")
+        float,
+        typer.Option(callback=THRESHOLD, help="Fourier terms under this amplitude (degrees) are dropped."),
     ] = 1.0,
     force: Annotated[bool, typer.Option("--force", help="Overwrite OUTPUT.")] = False,
     imposed_frequency: Annotated[
@@ -86,7 +95,7 @@ def grammar(
 ) -> None:
     """Write a grammar from the seed in one of the paper's styles."""
     if output is not None:
-        check_output(output, force=force)
+        check_output(output, force=force, flag="-o")
     seed = _seed(seed_csv)
     command = (
         f"gaitgram seed grammar --style {style.value}"
@@ -112,7 +121,12 @@ def derive(
         list[Path], typer.Argument(help="DeepLabCut tracks (.h5, .csv) of walking horses, or their folders.")
     ],
     output: Annotated[Path, typer.Option("--output", "-o", help="Write the summary (JSON) here.")],
-    fps: Annotated[float, typer.Option(min=1, help="Frames per second of the videos.")] = 15.0,
+    fps: Annotated[
+        float,
+        typer.Option(
+            callback=within("--fps", *FPS_RANGE), help="Frames per second of the videos, 1 to 1000."
+        ),
+    ] = 15.0,
     force: Annotated[bool, typer.Option("--force", help="Overwrite an existing output.")] = False,
 ) -> None:
     """Measure real walks: footfall timing (stride frequency, duty factor, the phase at which each
@@ -121,13 +135,17 @@ def derive(
     from gaitgram.extras import MissingExtra
     from gaitgram.seed.dlc import DlcError, measure, read_clip, summarise
 
-    check_output(output, force=force)
-    files = sorted(
-        f
-        for path in tracks
-        for f in (path.iterdir() if path.is_dir() else [path])
-        if not path.is_dir() or f.suffix.lower() in (".h5", ".hdf5", ".csv")
-    )
+    check_output(output, force=force, flag="-o")
+    try:
+        files = sorted(
+            f
+            for path in tracks
+            for f in (path.iterdir() if path.is_dir() else [path])
+            if not path.is_dir() or f.suffix.lower() in (".h5", ".hdf5", ".csv")
+        )
+    except OSError as error:
+        err.print(f"error: cannot read {error.filename}: {describe_os_error(error)}", style="bold red")
+        raise typer.Exit(2) from None
     if not files:
         err.print(f"error: no .h5 or .csv tracks in {', '.join(map(str, tracks))}", style="bold red")
         raise typer.Exit(2)

@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
-from gaitgram.cli.common import err
+from gaitgram.cli.common import check_output, err
 from gaitgram.evolution.engine import CheckpointError
 from gaitgram.evolution.rundir import RunDirectoryError
 from gaitgram.evolution.session import stop_on_interrupt
@@ -61,6 +61,7 @@ def command(
     cores = os.cpu_count() or 1
     jobs = jobs or (dask_local or cores)
     threads = threads or max(1, cores // jobs)
+    check_output(out, force=False, directory=True, parents=True, flag="-o")  # an existing study continues
     try:
         study = load_study(study_file, ScaleDown(runs, generations, population))
         with locked(out):

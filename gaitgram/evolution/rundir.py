@@ -38,7 +38,7 @@ from gaitgram.backends.api import Evaluation, GaitStatus
 from gaitgram.backends.registry import backend_version
 from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, differences, read_toml
 from gaitgram.evolution.engine import ENGINE_REVISION, RunState
-from gaitgram.fileio import write_atomically
+from gaitgram.fileio import OutputError, check_output, write_atomically
 from gaitgram.language import parse
 from gaitgram.language.source import SourceText, decode_source
 from gaitgram.pipeline import Genome, Individual, Pipeline, PipelineError
@@ -142,11 +142,7 @@ class RunDirectory:
         cls, path: Path, pipeline: Pipeline, *, defines: Mapping[str, int], origin: str
     ) -> RunDirectory:
         """Make a new run directory; refuses one that exists and holds anything."""
-        if path.exists() and (not path.is_dir() or any(path.iterdir())):
-            what = "is not a directory" if not path.is_dir() else "already exists and is not empty"
-            raise RunDirectoryError(
-                f"{path} {what}; pass --resume {path} to continue a run there, or choose another --out"
-            )
+        cls.check_new(path)
         made = not path.exists()
         grammar_text = pipeline.grammar.source.text
         config_text = pipeline.config.to_toml()
@@ -179,6 +175,23 @@ class RunDirectory:
                     (path / name).unlink(missing_ok=True)
             raise RunDirectoryError(f"cannot write {path}: {error.strerror or error}") from None
         return cls(path, pipeline, dict(defines), run_fingerprint, origin)
+
+    @staticmethod
+    def check_new(path: Path) -> None:
+        """Refuse, before any work, a place a new run cannot go: a file, a directory that holds
+        anything, one under a file or that cannot be written (missing parents are made)."""
+        try:
+            check_output(path, directory=True, parents=True, flag="--out")
+            holds = path.is_dir() and any(path.iterdir())
+        except OutputError as error:
+            raise RunDirectoryError(str(error)) from None
+        except OSError as error:
+            raise RunDirectoryError(f"cannot read {path}: {error.strerror or error}") from None
+        if holds:
+            raise RunDirectoryError(
+                f"{path} already exists and is not empty; pass --resume {path} to continue a run there, "
+                "or choose another --out"
+            )
 
     # ---- opening ---------------------------------------------------------------------
 
@@ -404,8 +417,8 @@ def best_walk_of_runs(directory: RunDirectory) -> KeptGait:
     verdict = directory.pipeline.spec.verdict
     if verdict is None:
         raise RunDirectoryError(
-            f"backend {directory.pipeline.backend!r} judges no gait a walk, so {directory.path} has no "
-            "best walk to show; drop --walk"
+            f"the {directory.pipeline.backend} backend of {directory.path} does not judge walks (it "
+            "declares no verdict); drop --walk to see the run's best gait"
         )
     found: list[KeptGait] = []
     for run, state in _last_states(directory):

@@ -25,10 +25,13 @@ from __future__ import annotations
 import csv
 import math
 import re
-from collections.abc import Iterable, Sequence
+from array import array
+from bisect import bisect_left
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from itertools import pairwise
 from pathlib import Path
+from typing import TextIO
 
 import numpy as np
 from numpy.typing import NDArray
@@ -77,6 +80,16 @@ CURVES = {
 
 #: Landmarks below this DeepLabCut likelihood are treated as missing.
 MIN_LIKELIHOOD = 0.6
+#: Coordinates beyond this many pixels from the image origin (no camera makes such images), like
+#: non-finite ones (``inf``, ``nan``) and non-finite likelihoods, are treated as missing.
+MAX_COORDINATE = 1.0e6
+#: Frame rates ``--fps`` accepts: a camera films between these.
+FPS_RANGE = (1.0, 1000.0)
+#: The longest track read: 500,000 frames is over 2 hours at 60 fps. Measuring that many takes
+#: about 0.5 GB (``python -m benchmarks dlc``); longer is not a walk but a day's filming.
+MAX_FRAMES = 500_000
+#: The longest CSV line read: a frame takes under 1,000 characters.
+MAX_LINE = 16_384
 #: A hoof is in stance while its forward speed is under this share of the withers'.
 STANCE_SPEED_SHARE = 0.2
 #: Samples per stride of the averaged curves.
@@ -120,13 +133,20 @@ class Kinematics:
     """What one or more clips measure; the lists hold one entry per stride found."""
 
     clips: int = 0
+    read: list[str] = field(default_factory=list)  # every clip's name, walking or not
     strides: list[tuple[str, float, float]] = field(default_factory=list)  # (hoof, seconds, duty)
     offsets: dict[str, list[float]] = field(default_factory=dict)  # hoof -> phases after left hind
     curves: dict[str, list[NDArray[np.float64]]] = field(default_factory=dict)
 
 
 def read_clip(path: Path, fps: float = 15.0) -> Clip:
-    """A DeepLabCut ``.h5`` (needs h5py: ``pip install 'gaitgram[dlc]'``) or ``.csv`` track."""
+    """A DeepLabCut ``.h5`` (needs h5py: ``pip install 'gaitgram[dlc]'``) or ``.csv`` track.
+
+    A landmark is missing in a frame when its likelihood is under :data:`MIN_LIKELIHOOD` or not a
+    number, or a coordinate is not finite or beyond :data:`MAX_COORDINATE`; missing stretches are
+    interpolated. Tracks over :data:`MAX_FRAMES` frames are refused."""
+    if not FPS_RANGE[0] <= fps <= FPS_RANGE[1]:  # also refuses nan
+        raise DlcError(f"{fps} frames per second: a camera films at {FPS_RANGE[0]:g} to {FPS_RANGE[1]:g}")
     if not path.is_file():
         raise DlcError(f"cannot read {path}: no such file")
     if path.suffix.lower() == ".csv":
@@ -142,8 +162,19 @@ def read_clip(path: Path, fps: float = 15.0) -> Clip:
         )
     triples = values.reshape(len(values), len(KEYPOINTS), 3)
     xy = triples[:, :, :2].copy()
-    xy[~(triples[:, :, 2] >= MIN_LIKELIHOOD)] = np.nan
+    likelihood = triples[:, :, 2]
+    tracked = (
+        (likelihood >= MIN_LIKELIHOOD) & np.isfinite(likelihood) & (np.abs(xy) <= MAX_COORDINATE).all(axis=2)
+    )
+    xy[~tracked] = np.nan
     return Clip(path.name, fps, xy)
+
+
+def _too_long(path: Path) -> DlcError:
+    return DlcError(
+        f"{path}: over {MAX_FRAMES:,} frames; tracks this long are refused (no walk lasts that long): "
+        "split the video into clips"
+    )
 
 
 def _read_h5(path: Path) -> NDArray[np.float64]:
@@ -152,7 +183,11 @@ def _read_h5(path: Path) -> NDArray[np.float64]:
         with h5py.File(path, "r") as data:
             table = data["df_with_missing/table"]
             kind = table.attrs.get("values_block_0_kind", b"")
+            if len(table) > MAX_FRAMES:  # before reading any of it
+                raise _too_long(path)
             values = np.asarray(table["values_block_0"], dtype=np.float64)
+    except DlcError:
+        raise
     except (OSError, KeyError, ValueError, TypeError) as error:
         raise DlcError(f"{path}: not a DeepLabCut track ({error})") from None
     names = _keypoint_names(kind.decode("latin-1") if isinstance(kind, bytes) else str(kind))
@@ -168,21 +203,75 @@ def _keypoint_names(kind: str) -> list[str]:
 
 
 def _read_csv(path: Path) -> NDArray[np.float64]:
+    """The values after the frame number, line by line into one flat buffer: memory is 8 bytes a
+    value, not the hundred that Python lists of strings would take."""
+    width = 1 + 3 * len(KEYPOINTS)
+    values = array("d")
+    reader = None
     try:
-        with path.open(newline="", encoding="utf-8") as handle:
-            rows = list(csv.reader(handle))
-    except (OSError, UnicodeDecodeError) as error:
-        raise DlcError(f"{path}: cannot read it ({error})") from None
-    if len(rows) < 4 or rows[0][:1] != ["scorer"]:
-        raise DlcError(f"{path}: not a DeepLabCut CSV (its first line must start with 'scorer')")
-    names = list(dict.fromkeys(rows[1][1:]))
-    if tuple(names) != KEYPOINTS:
-        raise DlcError(f"{path}: its landmarks are {', '.join(names)}; expected {', '.join(KEYPOINTS)}")
+        with path.open(newline="", encoding="utf-8-sig") as handle:  # a byte order mark is allowed
+            reader = csv.reader(_lines(handle, path))
+            header = [next(reader, []) for _ in range(3)]
+            if header[0][:1] != ["scorer"]:
+                raise DlcError(f"{path}: not a DeepLabCut CSV (its first line must start with 'scorer')")
+            names = list(dict.fromkeys(header[1][1:]))
+            if tuple(names) != KEYPOINTS:
+                raise DlcError(
+                    f"{path}:2: its landmarks are {', '.join(names) or 'not named'}; expected "
+                    + ", ".join(KEYPOINTS)
+                )
+            frames = 0
+            for row in reader:
+                if not row:
+                    continue  # a blank line
+                if len(row) != width:
+                    raise DlcError(
+                        f"{path}:{reader.line_num}: {len(row)} values where a frame has {width} (its "
+                        f"number, then x, y and likelihood of each of the {len(KEYPOINTS)} landmarks); "
+                        "fix or delete the line"
+                    )
+                if frames == MAX_FRAMES:
+                    raise _too_long(path)
+                values.extend(_numbers(row, path, reader.line_num))
+                frames += 1
+    except csv.Error as error:  # a field over csv's size limit
+        raise DlcError(f"{path}:{reader.line_num if reader else 1}: not a CSV line ({error})") from None
+    except UnicodeDecodeError:
+        line = reader.line_num + 1 if reader else 1
+        raise DlcError(f"{path}:{line}: not UTF-8 text; DeepLabCut writes its CSVs as UTF-8") from None
+    except OSError as error:
+        raise DlcError(f"{path}: cannot read it ({error.strerror or error})") from None
+    return np.frombuffer(values, dtype=np.float64).reshape(-1, width - 1)
+
+
+def _lines(handle: TextIO, path: Path) -> Iterator[str]:
+    """The file's lines, each read with a bound: one endless line must not fill the memory."""
+    number = 0
+    while line := handle.readline(MAX_LINE + 1):
+        number += 1
+        if len(line) > MAX_LINE:
+            raise DlcError(
+                f"{path}:{number}: a line over {MAX_LINE:,} characters; a DeepLabCut frame takes under 1,000"
+            )
+        yield line
+
+
+def _numbers(row: list[str], path: Path, line: int) -> list[float]:
+    """A row's values after the frame number; an empty cell is missing (NaN)."""
     try:
-        values = [[float(v) if v else math.nan for v in row[1:]] for row in rows[3:]]
-        return np.array(values, dtype=np.float64)
-    except ValueError as error:
-        raise DlcError(f"{path}: a value is not a number ({error})") from None
+        return [float(v) for v in row[1:]]
+    except ValueError:
+        pass
+    found = []
+    for column, text in enumerate(row[1:], start=2):
+        try:
+            found.append(float(text) if text.strip() else math.nan)
+        except ValueError:
+            raise DlcError(
+                f"{path}:{line}: column {column}: {text!r} is not a number; coordinates and "
+                "likelihoods are numbers (an empty cell is a missing one)"
+            ) from None
+    return found
 
 
 def _filled(series: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -200,13 +289,16 @@ def _angle(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64
     return np.degrees((turn + np.pi) % (2 * np.pi) - np.pi)
 
 
-def _world(clip: Clip) -> dict[str, NDArray[np.float64]]:
-    """Every landmark with y up and x forward (the horse walks either way past the camera)."""
+def _world(clip: Clip) -> dict[str, NDArray[np.float64]] | None:
+    """Every landmark with y up and x forward (the horse walks either way past the camera); None
+    if the withers, which give the body's speed and direction, are tracked in under two frames."""
     points = {}
     for keypoint in KEYPOINTS:
         x, y = clip.point(keypoint).T
         points[keypoint] = np.column_stack([_filled(x), -_filled(y)])
-    forward = np.nanmean(np.diff(points["Withers"][:, 0]))
+    if np.isnan(points["Withers"]).any():  # filled: either complete or never tracked
+        return None
+    forward = np.mean(np.diff(points["Withers"][:, 0]))
     if forward < 0:
         for value in points.values():
             value[:, 0] *= -1
@@ -258,10 +350,13 @@ def measure(clips: Iterable[Clip]) -> Kinematics:
     """Footfalls and stride-normalised curves of every clip, pooled."""
     found = Kinematics()
     for clip in clips:
+        found.read.append(clip.name)
         points = _world(clip)
-        body_speed = float(np.nanmedian(np.diff(points["Withers"][:, 0])))
-        if not body_speed > 0 or np.isnan(points["Withers"]).all():
-            continue  # standing, or the withers never tracked: no walk to read
+        if points is None:
+            continue  # the withers never tracked: no walk to read
+        body_speed = float(np.median(np.diff(points["Withers"][:, 0])))
+        if not body_speed > 0:
+            continue  # standing
         found.clips += 1
         curves = _curves(points)
         strides = {h: _strides(h, points[h][:, 0], body_speed, clip.fps) for h in HOOVES}
@@ -274,18 +369,25 @@ def measure(clips: Iterable[Clip]) -> Kinematics:
                     if not np.isnan(series[frames]).any():
                         curve = np.interp(phase, (frames - stride.start) / stride.frames, series[frames])
                         found.curves.setdefault(name, []).append(curve)
+        starts = {hoof: [s.start for s in hoof_strides] for hoof, hoof_strides in strides.items()}
         for stride in strides["LeftHindHoof"]:
-            for hoof in HOOVES:
-                lands = [s.start for s in strides[hoof] if stride.start <= s.start < stride.end]
-                if lands:
-                    found.offsets.setdefault(hoof, []).append((lands[0] - stride.start) / stride.frames)
+            for hoof in HOOVES:  # the first touchdown within the stride (starts ascend)
+                first = bisect_left(starts[hoof], stride.start)
+                if first < len(starts[hoof]) and starts[hoof][first] < stride.end:
+                    lands = starts[hoof][first]
+                    found.offsets.setdefault(hoof, []).append((lands - stride.start) / stride.frames)
     return found
 
 
 def summarise(kinematics: Kinematics, seed: Sequence[float] | None = None) -> dict[str, object]:
     """Medians and spreads: what ``gaitgram seed derive`` writes."""
     if not kinematics.strides:
-        raise DlcError("no walk strides found: are these side views of walking horses?")
+        names = kinematics.read
+        shown = ", ".join(names[:3]) + (f" and {len(names) - 3} more" if len(names) > 3 else "")
+        raise DlcError(
+            f"no walk strides found in {shown or 'no tracks'}: are these side views of walking horses, "
+            f"with landmarks tracked at a likelihood of {MIN_LIKELIHOOD} or more?"
+        )
     seconds = np.array([s for _, s, _ in kinematics.strides])
     duty = np.array([d for _, _, d in kinematics.strides])
     curves = {}

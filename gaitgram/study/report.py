@@ -20,6 +20,7 @@ on request, animations of chosen trade-off gaits and repertoire cells
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import json
@@ -33,9 +34,11 @@ from typing import Any
 import numpy as np
 
 from gaitgram import jsonio
-from gaitgram.fileio import write_atomically
+from gaitgram.fileio import OutputError, check_output, write_atomically
 from gaitgram.strategies.figures import (
+    Front,
     RecordError,
+    Repertoire,
     archive_figure,
     front_figure,
     kept_members,
@@ -594,17 +597,8 @@ def write_study_report(
     """The report's files; ``chosen`` cells (or ``gaits`` cells spread over each repertoire) are
     outlined on the heat maps: the ones :func:`write_gallery` draws."""
     report = build_report(arms)
-    names = ("summary.md", "summary.csv", "tables.tex", "summary.json", "convergence.png", "convergence.svg")
-    targets = [out / n for n in names]
-    try:
-        fronts = {a.name: load_fronts(a.path) for a in arms}
-        repertoires = {a.name: load_repertoire(a.path) for a in arms}
-    except RecordError as error:
-        raise ReportError(str(error)) from None
-    figures = [out / figure_name("front", name) for name, found in fronts.items() if found]
-    figures += [
-        out / figure_name("archive", name) for name, found in repertoires.items() if found is not None
-    ]
+    fronts, repertoires = _kept_sets(arms)
+    targets, figures = _tables(out), _figures(out, fronts, repertoires)
     existing = [t for t in [*targets, *figures] if t.exists()]
     if existing and not force:
         raise ReportError(
@@ -640,15 +634,51 @@ def write_gallery(
     from gaitgram.strategies.gallery import render_gaits
 
     written: list[Path] = []
+    for arm, genomes, paths in _gallery(arms, out, gaits=gaits, chosen=chosen):
+        render_gaits(arm.path, genomes, paths)
+        written += paths
+    return written
+
+
+def _tables(out: Path) -> list[Path]:
+    """The files every report writes, in the order :func:`write_study_report` writes them."""
+    names = ("summary.md", "summary.csv", "tables.tex", "summary.json", "convergence.png", "convergence.svg")
+    return [out / name for name in names]
+
+
+def _figures(
+    out: Path, fronts: dict[str, list[Front]], repertoires: dict[str, Repertoire | None]
+) -> list[Path]:
+    """One figure per arm that keeps fronts or a repertoire."""
+    found = [out / figure_name("front", name) for name, kept in fronts.items() if kept]
+    return found + [
+        out / figure_name("archive", name) for name, kept in repertoires.items() if kept is not None
+    ]
+
+
+def _kept_sets(arms: list[ArmRecord]) -> tuple[dict[str, list[Front]], dict[str, Repertoire | None]]:
+    try:
+        return {a.name: load_fronts(a.path) for a in arms}, {a.name: load_repertoire(a.path) for a in arms}
+    except RecordError as error:
+        raise ReportError(str(error)) from None
+
+
+def _gallery(
+    arms: list[ArmRecord], out: Path, *, gaits: int, chosen: Sequence[tuple[int, ...]]
+) -> list[tuple[ArmRecord, list[list[int]], list[Path]]]:
+    """What :func:`write_gallery` draws: per arm, the genomes and their GIFs; a chosen cell that
+    no run filled is a :class:`ReportError`."""
+    if not (gaits or chosen):
+        return []
+    fronts, repertoires = _kept_sets(arms)
+    found = []
     for arm in arms:
-        fronts = load_fronts(arm.path)
-        if fronts and gaits:
-            members = trade_offs(fronts[0], gaits)
+        if fronts[arm.name] and gaits:
+            members = trade_offs(fronts[arm.name][0], gaits)
             paths = [out / figure_name("front", f"{arm.name}-{k}", ".gif") for k in range(len(members))]
-            render_gaits(arm.path, [m["genome"] for m in members], paths)
-            written += paths
-        repertoire = load_repertoire(arm.path)
-        if repertoire is not None and (gaits or chosen):
+            found.append((arm, [m["genome"] for m in members], paths))
+        repertoire = repertoires[arm.name]
+        if repertoire is not None:
             cells = list(chosen) or spread_cells(repertoire, gaits)
             missing = [c for c in cells if c not in repertoire.elites]
             if missing:
@@ -657,6 +687,46 @@ def write_gallery(
                     + " ".join(",".join(map(str, c)) for c in sorted(repertoire.elites))
                 )
             paths = [out / figure_name("cell", f"{arm.name}-{'-'.join(map(str, c))}", ".gif") for c in cells]
-            render_gaits(arm.path, [repertoire.elites[c]["genome"] for c in cells], paths)
-            written += paths
-    return written
+            found.append((arm, [repertoire.elites[c]["genome"] for c in cells], paths))
+    return found
+
+
+def report_files(
+    arms: list[ArmRecord], out: Path, *, gaits: int = 0, chosen: Sequence[tuple[int, ...]] = ()
+) -> list[Path]:
+    """Every file :func:`write_report` would write, to check before any is written."""
+    files = _tables(out) + _figures(out, *_kept_sets(arms))
+    return files + [path for _, _, paths in _gallery(arms, out, gaits=gaits, chosen=chosen) for path in paths]
+
+
+def write_report(
+    arms: list[ArmRecord],
+    out: Path,
+    *,
+    title: str = "",
+    force: bool = False,
+    gaits: int = 0,
+    chosen: Sequence[tuple[int, ...]] = (),
+) -> list[Path]:
+    """The whole report, tables, figures and GIFs, or none of it: every file is checked first
+    (an existing one needs ``force``), and if anything fails (a GIF that cannot be rendered, a
+    full disk, Ctrl-C) the files and directories made so far are removed again."""
+    planned = report_files(arms, out, gaits=gaits, chosen=chosen)
+    try:
+        for path in planned:
+            check_output(path, force=force, parents=True, flag="-o")
+    except OutputError as error:
+        raise ReportError(str(error)) from None
+    made = [d for d in (out, *out.parents) if not d.exists()]
+    new = [path for path in planned if not path.exists()]
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        written = write_study_report(arms, out, title=title, force=force, chosen=chosen, gaits=gaits)
+        return written + write_gallery(arms, out, gaits=gaits, chosen=chosen)
+    except BaseException:
+        for path in new:
+            path.unlink(missing_ok=True)
+        for directory in made:  # innermost first
+            with contextlib.suppress(OSError):
+                directory.rmdir()
+        raise

@@ -200,9 +200,10 @@ def _read_manifest(out: Path) -> dict[str, Any] | None:
 def locked(out: Path) -> Iterator[None]:
     """One gaitgram at a time in a study directory: two would write the same checkpoints.
 
-    A directory made here only to hold the lock is removed again if nothing else was written.
+    Directories made here only to hold the lock (the study directory and any parents it needed)
+    are removed again if nothing else was written.
     """
-    made = not out.exists()
+    made = [d for d in (out, *out.parents) if not d.exists()]  # the study directory and its parents
     out.mkdir(parents=True, exist_ok=True)
     handle = (out / LOCK_FILE).open("a+")
     try:
@@ -216,7 +217,8 @@ def locked(out: Path) -> Iterator[None]:
         if made and {p.name for p in out.iterdir()} <= {LOCK_FILE, STOP_FILE}:
             for name in (LOCK_FILE, STOP_FILE):
                 (out / name).unlink(missing_ok=True)
-            out.rmdir()
+            for directory in made:  # innermost first
+                directory.rmdir()
 
 
 # ---- tasks -----------------------------------------------------------------------------------

@@ -101,13 +101,16 @@ def test_an_output_that_is_a_directory_or_under_a_file_is_refused(tmp_path: Path
     for extra in ([], ["--force"]):
         result = runner.invoke(app, ["compile", str(SINE_WALK), "-o", str(directory), *extra])
         assert result.exit_code == 2
-        assert result.stderr == f"error: cannot write {directory}: is a directory\n"
+        assert result.stderr == f"error: cannot write {directory}: is a directory; choose another -o\n"
     result = runner.invoke(app, ["compile", str(SINE_WALK), "-o", str(plain / "x.json")])
     assert result.exit_code == 2
-    assert result.stderr == f"error: cannot write {plain / 'x.json'}: not a directory\n"
+    assert (
+        result.stderr
+        == f"error: cannot write {plain / 'x.json'}: {plain} is not a directory; choose another -o\n"
+    )
     result = runner.invoke(app, ["seed", "grammar", "--style", "free", "-o", str(directory)])
     assert result.exit_code == 2
-    assert result.stderr == f"error: cannot write {directory}: is a directory\n"
+    assert result.stderr == f"error: cannot write {directory}: is a directory; choose another -o\n"
     assert plain.read_text() == "not a directory"
 
 
@@ -121,7 +124,10 @@ def test_an_unwritable_directory_is_reported(tmp_path: Path) -> None:
     finally:
         locked.chmod(0o700)
     assert result.exit_code == 2
-    assert result.stderr == f"error: cannot write {locked / 't.json'}: permission denied\n"
+    assert result.stderr == (
+        f"error: cannot write {locked / 't.json'}: permission denied (cannot create files in {locked}); "
+        "choose another -o\n"
+    )
 
 
 def test_a_refused_temporary_file_is_reported_with_the_output_path(

@@ -158,3 +158,202 @@ def test_the_seed_agrees_with_the_measured_walks() -> None:
         curve = measured["curves"][joint]
         assert curve["range_of_motion"] < seed_range, joint
         assert seed_range == pytest.approx(curve["median_stride_range"], rel=0.15), joint
+
+
+# ---- hostile tracks: non-finite values, ragged rows, bad options, oversize files ----------------
+
+DERIVE = [sys.executable, "-m", "gaitgram", "seed", "derive"]
+
+
+def derive(*args: str | Path) -> subprocess.CompletedProcess[str]:
+    """``gaitgram seed derive`` in its own process, so that anything printed to stderr is seen."""
+    return subprocess.run([*DERIVE, *map(str, args)], capture_output=True, text=True, check=False)
+
+
+def edited(source: Path, target: Path, cells: dict[tuple[int, int], str]) -> Path:
+    """A copy of a CSV track with some cells replaced: (line number, column number) -> text."""
+    rows = list(csv.reader(source.open(newline="")))
+    for (line, column), text in cells.items():
+        rows[line - 1][column - 1] = text
+    with target.open("w", newline="") as handle:
+        csv.writer(handle).writerows(rows)
+    return target
+
+
+def column(keypoint: str, value: str) -> int:
+    """The CSV column (1-based, after the frame number) of a landmark's x, y or likelihood."""
+    return 2 + 3 * KEYPOINTS.index(keypoint) + ("x", "y", "likelihood").index(value)
+
+
+def test_non_finite_values_are_missing_landmarks(tmp_path: Path) -> None:
+    """inf, -inf, nan and absurd coordinates, and a non-finite likelihood, are read as missing
+    landmarks (as a low likelihood is), interpolated over: the summary is the clean track's, and
+    nothing is printed but the summary line."""
+    clean = tmp_path / "clean.csv"
+    synthetic_walk(clean)
+    hostile = edited(
+        clean,
+        tmp_path / "hostile.csv",
+        {
+            (10, column("Poll", "y")): "inf",
+            (14, column("Withers", "x")): "-inf",
+            (20, column("LeftFrontHoof", "y")): "nan",
+            (26, column("RightHindFetlock", "x")): "1e308",
+            (30, column("Nostril", "x")): "-1e300",
+            (34, column("LeftHock", "likelihood")): "inf",
+            (34, column("LeftHock", "x")): "12345",  # a wild value behind the non-finite likelihood
+        },
+    )
+    expected = derive(clean, "-o", tmp_path / "clean.json")
+    assert expected.returncode == 0, expected.stderr
+    done = derive(hostile, "-o", tmp_path / "hostile.json")
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.startswith("1 clips"), done.stderr
+    assert done.stderr.count("\n") == 1, done.stderr  # no warnings
+    summary = json.loads((tmp_path / "hostile.json").read_text())
+    assert summary == json.loads((tmp_path / "clean.json").read_text())
+
+
+def test_a_track_with_nothing_tracked_is_one_error_line(tmp_path: Path) -> None:
+    """Every landmark under the likelihood threshold: no warning from numpy, one error naming the
+    file and what to check."""
+    clean = tmp_path / "walk.csv"
+    synthetic_walk(clean)
+    lines = len(clean.read_text().splitlines())
+    cells = {(line, column(k, "likelihood")): "0.1" for line in range(4, lines + 1) for k in KEYPOINTS}
+    done = derive(edited(clean, tmp_path / "untracked.csv", cells), "-o", tmp_path / "out.json")
+    assert done.returncode == 2
+    assert done.stderr.startswith("error: no walk strides found in untracked.csv: ")
+    assert "likelihood" in done.stderr
+    assert done.stderr.count("\n") == 1, done.stderr
+    assert not (tmp_path / "out.json").exists()
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ("short", "{path}:13: 47 values where a frame has 49"),
+        ("long", "{path}:13: 51 values where a frame has 49"),
+        ("word", "{path}:13: column 5: 'oops' is not a number"),
+        ("landmarks", "{path}:2: its landmarks are"),
+        ("endless", "{path}:13: a line over 16,384 characters"),
+    ],
+)
+def test_a_malformed_row_names_the_file_and_line(tmp_path: Path, change: str, message: str) -> None:
+    clean = tmp_path / "walk.csv"
+    synthetic_walk(clean)
+    lines = clean.read_text().splitlines()
+    fields = lines[12].split(",")
+    lines[12] = {
+        "short": ",".join(fields[:-2]),
+        "long": ",".join([*fields, "1", "2"]),
+        "word": ",".join([*fields[:4], "oops", *fields[5:]]),
+        "landmarks": lines[12],
+        "endless": ",".join(fields + ["1"] * 10_000),
+    }[change]
+    if change == "landmarks":
+        lines[1] = lines[1].replace("Withers", "Wither")
+    track = tmp_path / "track.csv"
+    track.write_text("\n".join(lines) + "\n")
+    done = derive(track, "-o", tmp_path / "out.json")
+    assert done.returncode == 2
+    assert done.stderr.startswith("error: " + message.format(path=track)), done.stderr
+    assert "Traceback" not in done.stderr
+    assert "sequence" not in done.stderr
+    assert not (tmp_path / "out.json").exists()
+
+
+def test_a_byte_order_mark_is_allowed(tmp_path: Path) -> None:
+    """Excel and Windows tools save CSVs as UTF-8 with a byte order mark."""
+    synthetic_walk(tmp_path / "walk.csv")
+    (tmp_path / "bom.csv").write_bytes(b"\xef\xbb\xbf" + (tmp_path / "walk.csv").read_bytes())
+    plain, marked = (
+        derive(tmp_path / "walk.csv", "-o", tmp_path / "a.json"),
+        derive(tmp_path / "bom.csv", "-o", tmp_path / "b.json"),
+    )
+    assert marked.returncode == 0, marked.stderr
+    assert plain.returncode == 0, plain.stderr
+    assert (tmp_path / "a.json").read_text() == (tmp_path / "b.json").read_text()
+
+
+def test_bad_numeric_options_name_the_flag(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from gaitgram.cli import app
+
+    synthetic_walk(tmp_path / "walk.csv")
+    runner = CliRunner()
+    for fps in ("inf", "-inf", "nan", "0", "-15", "1e9"):
+        done = runner.invoke(
+            app,
+            ["seed", "derive", str(tmp_path / "walk.csv"), "-o", str(tmp_path / "out.json"), "--fps", fps],
+        )
+        assert done.exit_code == 2, (fps, done.stderr)
+        assert "--fps" in done.stderr, (fps, done.stderr)
+        assert "from 1 to 1000" in done.stderr, (fps, done.stderr)
+        assert done.exception is None or isinstance(done.exception, SystemExit), (fps, done.exception)
+    assert not (tmp_path / "out.json").exists()
+    for command in ("fit", "grammar --style free"):
+        threshold = runner.invoke(app, ["seed", *command.split(), "--threshold", "nan"])
+        assert threshold.exit_code == 2
+        assert "--threshold" in threshold.stderr
+        assert "from 0 to 360 degrees" in threshold.stderr
+
+
+def test_an_oversize_track_is_refused_without_reading_it_all(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Past MAX_FRAMES a track is refused (lowered here: the real limit is 500,000 frames, whose
+    memory ``python -m benchmarks dlc`` measures), with a message saying why and what to do."""
+    from typer.testing import CliRunner
+
+    from gaitgram.cli import app
+    from gaitgram.seed import dlc
+
+    synthetic_walk(tmp_path / "walk.csv")  # 80 frames
+    monkeypatch.setattr(dlc, "MAX_FRAMES", 50)
+    read = []
+    monkeypatch.setattr(dlc, "_numbers", lambda *args: read.append(1) or [0.0] * 48)
+    done = CliRunner().invoke(
+        app, ["seed", "derive", str(tmp_path / "walk.csv"), "-o", str(tmp_path / "o.json")]
+    )
+    assert done.exit_code == 2
+    assert done.stderr == (
+        f"error: {tmp_path / 'walk.csv'}: over 50 frames; tracks this long are refused (no walk lasts "
+        "that long): split the video into clips\n"
+    )
+    assert len(read) == 50  # stopped at the limit
+    assert not (tmp_path / "o.json").exists()
+
+
+def write_h5(path: Path, csv_track: Path) -> None:
+    """A DeepLabCut .h5 (pandas' "table" layout, as h5py sees it) holding a CSV track's values."""
+    h5py = pytest.importorskip("h5py", reason="h5py (the dlc extra) is not installed")
+    rows = list(csv.reader(csv_track.open(newline="")))[3:]
+    values = np.array([[float(v) for v in row[1:]] for row in rows])
+    table = np.zeros(len(values), dtype=[("index", "<i8"), ("values_block_0", "<f8", (values.shape[1],))])
+    table["index"] = np.arange(len(values))
+    table["values_block_0"] = values
+    with h5py.File(path, "w") as data:
+        data.create_dataset("df_with_missing/table", data=table)
+
+
+def test_an_h5_track_reads_like_its_csv_and_is_bounded(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    clean = tmp_path / "walk.csv"
+    synthetic_walk(clean)
+    hostile = edited(clean, tmp_path / "hostile.csv", {(10, column("Poll", "y")): "inf"})
+    write_h5(tmp_path / "walk.h5", hostile)
+    expected = derive(clean, "-o", tmp_path / "csv.json")
+    done = derive(tmp_path / "walk.h5", "-o", tmp_path / "h5.json")
+    assert expected.returncode == 0, expected.stderr
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.count("\n") == 1, done.stderr
+    assert json.loads((tmp_path / "h5.json").read_text()) == json.loads((tmp_path / "csv.json").read_text())
+
+    from gaitgram.seed import dlc
+
+    monkeypatch.setattr(dlc, "MAX_FRAMES", 50)
+    with pytest.raises(dlc.DlcError, match=r"walk\.h5: over 50 frames; .* split the video into clips"):
+        read_clip(tmp_path / "walk.h5")

@@ -174,6 +174,18 @@ def write_strip(
     below: Sequence[np.ndarray] = (),
     labels: Sequence[str] = (),
 ) -> Path:
+    """:func:`strip_png`, written as ``open(path, "w")`` would, never half-written."""
+    write_output(path, strip_png(frames, count, below=below, labels=labels))
+    return path
+
+
+def strip_png(
+    frames: Sequence[np.ndarray],
+    count: int = 8,
+    *,
+    below: Sequence[np.ndarray] = (),
+    labels: Sequence[str] = (),
+) -> bytes:
     """A PNG of :func:`strip`; with ``below``, a second gait's strip under the first; ``labels``
     names the rows, in their top left corner."""
     from PIL import Image
@@ -186,5 +198,4 @@ def write_strip(
     ]
     out = io.BytesIO()
     Image.fromarray(np.concatenate(rows, axis=0)).save(out, format="PNG")
-    write_output(path, out.getvalue())
-    return path
+    return out.getvalue()
