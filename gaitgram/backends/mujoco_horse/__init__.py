@@ -20,6 +20,15 @@ from gaitgram.backends.mujoco_horse.task import (
 from gaitgram.backends.registry import BackendSpec
 
 CATALOGUE = load_catalogue(files(__name__).joinpath("joints.toml"))
+#: What a viable gait's evaluation reports (evaluator.py's ``_judge``; a test keeps them equal).
+COMPONENTS = WEIGHT_NAMES | {
+    "measured_velocity",
+    "measured_duty_factor",
+    "measured_stride",
+    "measured_frequency",
+    "measured_work",
+    "walk",
+}
 
 
 def load(settings: Mapping[str, Any] | None = None) -> Any:
@@ -68,4 +77,5 @@ BACKEND = BackendSpec(
     objectives=scored_components,
     # From a slow walk to a fast trot: speed (m/s) and the share of the cycle a hoof is down.
     descriptors={"measured_velocity": (0.0, 3.0), "measured_duty_factor": (0.3, 0.9)},
+    components=lambda settings: COMPONENTS,
 )
