@@ -30,16 +30,12 @@ from pathlib import Path
 from typing import Any
 
 from gaitgram import jsonio
-from gaitgram.analysis import check
 from gaitgram.backends.api import Evaluator
 from gaitgram.evolution.engine import load_checkpoint, run_evolution
 from gaitgram.evolution.rundir import RunDirectory, fingerprint
 from gaitgram.evolution.session import summary
 from gaitgram.extras import MissingExtra
 from gaitgram.fileio import write_atomically
-from gaitgram.language import parse
-from gaitgram.language.source import SourceError, read_source
-from gaitgram.pipeline import Pipeline, PipelineError
 from gaitgram.strategies.registry import load_strategy
 from gaitgram.study.spec import Study, StudyError
 
@@ -102,10 +98,11 @@ class StudyDirectory:
 def prepare_study(study: Study, out: Path) -> StudyDirectory:
     """Create the study directory, or open it again and verify that nothing would change.
 
-    Every arm is built (grammar checked, configuration resolved, backend loaded
-    once) before anything is written, so a bad arm leaves nothing behind.
+    Every arm was built when the study was loaded (grammar, configuration, backend and strategy
+    settings checked); its backend is loaded once here before anything is written, so a bad arm
+    leaves nothing behind.
     """
-    pipelines = {arm.name: _pipeline(arm.grammar, arm.defines, arm.config, arm.name) for arm in study.arms}
+    pipelines = {arm.name: arm.pipeline for arm in study.arms}
     existing = _read_manifest(out)
     if existing is not None:
         names = [a["name"] for a in existing["arms"]]
@@ -167,16 +164,6 @@ def prepare_study(study: Study, out: Path) -> StudyDirectory:
         }
         write_atomically(out / STUDY_MANIFEST, jsonio.dumps(manifest, indent=1) + "\n")
     return StudyDirectory(out, study, arms)
-
-
-def _pipeline(grammar: Path, defines: Any, config: Any, arm: str) -> Pipeline:
-    try:
-        checked = check(parse(read_source(grammar), defines=defines))
-        return Pipeline.build(checked, config)
-    except SourceError as error:
-        raise StudyError(f"arm {arm!r}: {error}") from None
-    except PipelineError as error:
-        raise StudyError(f"arm {arm!r}: {error}") from None
 
 
 def _read_manifest(out: Path) -> dict[str, Any] | None:
