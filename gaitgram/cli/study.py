@@ -11,12 +11,17 @@ import typer
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
 from gaitgram.cli.common import err
-from gaitgram.evolution.engine import CheckpointError
-from gaitgram.evolution.rundir import RunDirectoryError
 from gaitgram.evolution.session import stop_on_interrupt
-from gaitgram.pipeline import PipelineError
-from gaitgram.study.runner import RunProgress, TaskResult, locked, prepare_study, run_study
-from gaitgram.study.spec import ScaleDown, StudyError, load_study
+from gaitgram.study.runner import (
+    TASK_ERRORS,
+    RunProgress,
+    StudyDirectory,
+    StudyRun,
+    TaskResult,
+    open_study,
+    run_study,
+)
+from gaitgram.study.spec import ScaleDown, load_study
 
 
 def fail(message: str, code: int = 2) -> typer.Exit:
@@ -31,7 +36,12 @@ def command(
     ],
     runs: Annotated[int | None, typer.Option(min=1, help="Runs per arm, instead of the file's.")] = None,
     generations: Annotated[
-        int | None, typer.Option(min=1, help="Generations of every run, instead of the file's.")
+        int | None,
+        typer.Option(
+            min=1,
+            help="Generations of every run, instead of the file's; weight stages and @joint free= "
+            "generations move with it (the same design, shorter).",
+        ),
     ] = None,
     population: Annotated[
         int | None,
@@ -63,16 +73,21 @@ def command(
     threads = threads or max(1, cores // jobs)
     try:
         study = load_study(study_file, ScaleDown(runs, generations, population))
-        with locked(out):
-            directory = prepare_study(study, out)
-            results = _run(directory, jobs, threads, scheduler, dask_local, quiet)
-    except (StudyError, PipelineError, RunDirectoryError, CheckpointError) as error:
+        with open_study(study, out) as directory:  # whole before any run, and locked
+            done = _run(directory, jobs, threads, scheduler, dask_local, quiet)
+    except TASK_ERRORS as error:
         raise fail(str(error)) from None
     except OSError as error:
         raise fail(
             f"cannot write {error.filename or out}: {error.strerror or error}; run the same command "
             "again to continue the study"
         ) from None
+    if done.restored:
+        err.print(
+            f"rewrote {len(done.restored)} record file(s) that disagreed with their runs' checkpoints: "
+            + ", ".join(str(p) for p in done.restored),
+            markup=False,
+        )
     unfinished = [t for t in directory.tasks if not directory.finished(t)]
     if unfinished:
         err.print(
@@ -81,13 +96,20 @@ def command(
         raise typer.Exit(130)
     err.print(
         f"study complete: {len(study.arms)} arms x {study.runs} runs in {out} "
-        f"({len(results)} run(s) this time); "
+        f"({len(done.results)} run(s) this time); "
         f"report with: gaitgram report {out}",
         markup=False,
     )
 
 
-def _run(directory, jobs: int, threads: int, scheduler: str | None, dask_local: int | None, quiet: bool):
+def _run(
+    directory: StudyDirectory,
+    jobs: int,
+    threads: int,
+    scheduler: str | None,
+    dask_local: int | None,
+    quiet: bool,
+) -> StudyRun:
     tasks = directory.tasks
     config = {name: arm.config for name, arm in directory.arms.items()}
     per_run = {name: c.generations + 1 for name, c in config.items()}
@@ -124,7 +146,7 @@ def _run(directory, jobs: int, threads: int, scheduler: str | None, dask_local: 
     with progress, stop_on_interrupt() as should_stop:
         bar = progress.add_task("study", total=total, runs=f"0/{len(tasks)} runs", rate="-")
         on_progress([], [])
-        results = run_study(
+        done = run_study(
             directory,
             jobs=jobs,
             threads=threads,
@@ -134,5 +156,5 @@ def _run(directory, jobs: int, threads: int, scheduler: str | None, dask_local: 
             should_stop=should_stop,
         )
         last_poll = 0.0
-        on_progress([], results)
-    return results
+        on_progress([], done.results)
+    return done
