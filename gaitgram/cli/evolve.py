@@ -17,6 +17,7 @@ from gaitgram.backends.api import Evaluator
 from gaitgram.cli.common import err, load_usable
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.evolution.config import ConfigError, RunConfig, load_config, with_overrides
+from gaitgram.evolution.distributed import ClusterError, DaskEvaluator, connect
 from gaitgram.evolution.engine import CheckpointError, GenerationStats, load_checkpoint
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
 from gaitgram.evolution.session import run_session, stop_on_interrupt
@@ -122,7 +123,7 @@ def command(
                     origin=str(grammar),
                 )
                 held.enter_context(_lock(directory.path))
-        except (*_INPUT_ERRORS, MissingExtra) as error:
+        except (*_INPUT_ERRORS, MissingExtra, ClusterError) as error:
             raise fail(str(error)) from None
         _evolve(directory, evaluator, resumed=resume is not None, quiet=quiet, jsonl=jsonl)
 
@@ -278,18 +279,7 @@ def _runtime(pipeline: Pipeline, threads: int | None) -> dict[str, Any]:
 def _evaluator(
     pipeline: Pipeline, runtime: dict[str, Any], scheduler: str | None, dask_local: int | None
 ) -> Evaluator:
-    if not (scheduler or dask_local):
+    cluster = connect(scheduler, dask_local)
+    if cluster is None:
         return pipeline.load_evaluator(runtime)
-    from gaitgram.evolution.distributed import DaskEvaluator, DaskMissing
-
-    try:
-        return DaskEvaluator.connect(
-            pipeline.backend,
-            {**pipeline.config.backend_settings, **runtime},
-            address=scheduler,
-            local_workers=dask_local,
-        )
-    except DaskMissing as error:
-        raise fail(str(error)) from None
-    except OSError as error:
-        raise fail(f"cannot reach the Dask scheduler {scheduler}: {error}") from None
+    return DaskEvaluator(cluster, pipeline.backend, {**pipeline.config.backend_settings, **runtime})

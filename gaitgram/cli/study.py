@@ -11,7 +11,9 @@ import typer
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
 from gaitgram.cli.common import err
+from gaitgram.evolution.distributed import ClusterError, DaskCluster, connect
 from gaitgram.evolution.session import stop_on_interrupt
+from gaitgram.extras import MissingExtra
 from gaitgram.study.runner import (
     TASK_ERRORS,
     RunProgress,
@@ -54,7 +56,11 @@ def command(
         int | None, typer.Option(min=1, help="Simulation threads per run (default: cores / jobs).")
     ] = None,
     scheduler: Annotated[
-        str | None, typer.Option(help="Run on the Dask scheduler at this address, one run per task.")
+        str | None,
+        typer.Option(
+            help="Run on the Dask scheduler at this address (tcp://HOST:PORT), one run per task; its "
+            "workers must see the study directory (docs/study.md)."
+        ),
     ] = None,
     dask_local: Annotated[
         int | None, typer.Option(min=1, help="Run on a local Dask cluster of this many workers.")
@@ -73,9 +79,15 @@ def command(
     threads = threads or max(1, cores // jobs)
     try:
         study = load_study(study_file, ScaleDown(runs, generations, population))
-        with open_study(study, out) as directory:  # whole before any run, and locked
-            done = _run(directory, jobs, threads, scheduler, dask_local, quiet)
-    except TASK_ERRORS as error:
+        # The cluster answers before any directory is made; the directory is whole before any run.
+        cluster = connect(scheduler, dask_local)
+        try:
+            with open_study(study, out) as directory:
+                done = _run(directory, jobs, threads, cluster, quiet)
+        finally:
+            if cluster is not None:
+                cluster.close()
+    except (*TASK_ERRORS, ClusterError, MissingExtra) as error:
         raise fail(str(error)) from None
     except OSError as error:
         raise fail(
@@ -103,12 +115,7 @@ def command(
 
 
 def _run(
-    directory: StudyDirectory,
-    jobs: int,
-    threads: int,
-    scheduler: str | None,
-    dask_local: int | None,
-    quiet: bool,
+    directory: StudyDirectory, jobs: int, threads: int, cluster: DaskCluster | None, quiet: bool
 ) -> StudyRun:
     tasks = directory.tasks
     config = {name: arm.config for name, arm in directory.arms.items()}
@@ -150,8 +157,7 @@ def _run(
             directory,
             jobs=jobs,
             threads=threads,
-            scheduler=scheduler,
-            dask_local=dask_local,
+            cluster=cluster,
             on_progress=on_progress,
             should_stop=should_stop,
         )

@@ -15,8 +15,11 @@ each of its arms are locked while it runs.
 
 Parallelism: by default one process per core, each running whole runs with one
 simulation thread (``python -m benchmarks study`` measures this against one run
-at a time on all threads). With ``--scheduler``/``--dask-local`` each run is one
-Dask task; workers must see the study directory (a shared file system).
+at a time on all threads). On a Dask cluster (:func:`gaitgram.evolution.distributed.connect`)
+each run is one task; workers must see the study directory (a shared file
+system). A worker that dies takes its run's current generation with it: the
+scheduler gives the task to another worker, which continues from the run's last
+checkpoint, to the same results.
 """
 
 from __future__ import annotations
@@ -37,6 +40,7 @@ from typing import Any
 
 from gaitgram import jsonio
 from gaitgram.backends.api import Evaluator
+from gaitgram.evolution.distributed import DaskCluster, import_distributed
 from gaitgram.evolution.engine import CheckpointError, load_checkpoint, run_evolution
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, fingerprint
 from gaitgram.evolution.session import summary
@@ -311,12 +315,11 @@ def run_study(
     *,
     jobs: int,
     threads: int,
-    scheduler: str | None = None,
-    dask_local: int | None = None,
+    cluster: DaskCluster | None = None,
     on_progress: Progress | None = None,
     should_stop: Callable[[], bool] = lambda: False,
 ) -> StudyRun:
-    """Run every unfinished task (on Dask if asked, else in ``jobs`` local processes).
+    """Run every unfinished task (on ``cluster`` if given, else in ``jobs`` local processes).
     The records of runs finished before are rewritten first where they disagree with their
     checkpoints (deleted, edited, or stale after a kill)."""
     stop_file = directory.path / STOP_FILE
@@ -329,10 +332,8 @@ def run_study(
         else:
             pending.append(task)
     results: list[TaskResult] = []
-    if pending and (scheduler or dask_local):
-        results = _run_on_dask(
-            directory, pending, threads, stop_file, scheduler, dask_local, on_progress, should_stop
-        )
+    if pending and cluster is not None:
+        results = _run_on_dask(directory, pending, threads, stop_file, cluster, on_progress, should_stop)
     elif pending:
         results = _run_locally(directory, pending, jobs, threads, stop_file, on_progress, should_stop)
     _write_arm_summaries(directory)
@@ -387,45 +388,74 @@ def _run_on_dask(
     pending: list[Task],
     threads: int,
     stop_file: Path,
-    scheduler: str | None,
-    dask_local: int | None,
+    cluster: DaskCluster,
     on_progress: Progress | None,
     should_stop: Callable[[], bool],
 ) -> list[TaskResult]:
-    from gaitgram.evolution.distributed import _import_distributed
-
-    distributed = _import_distributed()
-    cluster = None
-    if scheduler:
-        client = distributed.Client(scheduler)
-    else:
-        cluster = distributed.LocalCluster(
-            n_workers=dask_local or 1, threads_per_worker=1, processes=True, dashboard_address=None
-        )
-        client = distributed.Client(cluster)
+    """One Dask task per run. A worker that dies mid-run loses its current generation only: the
+    scheduler hands the task to another worker, which resumes from the run's checkpoint."""
+    distributed = import_distributed()
+    client = cluster.client
+    futures = {
+        client.submit(
+            run_task, *_task_arguments(directory, task, threads, stop_file), pure=False, retries=2
+        ): task
+        for task in pending
+    }
+    remaining = set(futures)
     results: list[TaskResult] = []
     try:
-        futures = {
-            client.submit(
-                run_task, *_task_arguments(directory, t, threads, stop_file), pure=False, retries=2
-            ): t
-            for t in pending
-        }
-        remaining = set(futures)
         while remaining:
-            done, remaining = distributed.wait(list(remaining), timeout=0.5, return_when="FIRST_COMPLETED")
-            results += [f.result() for f in done]
-            remaining = set(remaining)
+            try:
+                distributed.wait(list(remaining), timeout=0.5, return_when="FIRST_COMPLETED")
+            except TimeoutError:  # none finished within the poll: not an error
+                pass
+            except Exception:  # the scheduler went away: every future is cancelled
+                raise StudyError(
+                    f"lost the connection to the Dask scheduler ({cluster.flag}); the runs' last checkpoints "
+                    "are intact: start the scheduler and its workers again, then run the same command again "
+                    "to continue"
+                ) from None
+            done = {f for f in remaining if f.done()}
+            remaining -= done
+            for future in sorted(done, key=lambda f: (futures[f].run, futures[f].arm)):
+                results.append(_dask_result(future, futures[future], cluster))
             if should_stop() and not stop_file.exists():
                 stop_file.touch()
             if on_progress:
-                active = [futures[f] for f in remaining if f.status == "pending"]
-                on_progress([directory.progress(t) for t in active], results)
+                on_progress([directory.progress(futures[f]) for f in remaining], results)
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        if remaining:  # an error or a second Ctrl-C: runs on the workers stop after their generation
+            stop_file.touch()
+            with contextlib.suppress(Exception):
+                client.cancel(list(remaining))
     return results
+
+
+def _dask_result(future: Any, task: Task, cluster: DaskCluster) -> TaskResult:
+    """A task's result, or an error that says what happened on the cluster."""
+    where = f"run {task.run} of arm {task.arm!r}"
+    try:
+        return future.result()
+    except TASK_ERRORS:
+        raise
+    except Exception as error:
+        kind = type(error).__name__
+        if kind == "KilledWorker":
+            raise StudyError(
+                f"{where}: the Dask workers that took it kept dying ({error}); its last checkpoint is "
+                "intact: check the workers (memory, logs), then run the same command again to continue"
+            ) from None
+        if kind == "CancelledError" or future.status == "cancelled":
+            raise StudyError(
+                f"{where}: the Dask scheduler ({cluster.flag}) dropped it (stopped or restarted?); its last "
+                "checkpoint is intact: run the same command again to continue"
+            ) from None
+        raise StudyError(
+            f"{where} failed on a Dask worker ({cluster.flag}): {kind}: {error}; every worker needs "
+            "gaitgram with the arms' backends and strategies installed, as here, and must see the study "
+            "directory at the same path (docs/study.md)"
+        ) from None
 
 
 def _write_arm_summaries(directory: StudyDirectory) -> None:
