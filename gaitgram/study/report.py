@@ -144,7 +144,10 @@ def load_arm(
 def _load_run(path: Path, generations: int, redo: str) -> RunRecord:
     rewrite = f"rewrite the run's records from its checkpoint with: {redo}"
     stats = path / "stats.jsonl"
-    records = [_stats_line(line, stats, n, rewrite) for n, line in enumerate(_lines(stats, rewrite), 1)]
+    lines = [(n, line) for n, line in enumerate(_lines(stats, rewrite), 1) if line.strip()]
+    records = [
+        _stats_line(line, f"{stats}:{n}", generation, rewrite) for generation, (n, line) in enumerate(lines)
+    ]
     if len(records) < generations + 1:
         raise ReportError(
             f"{path}: the run has {len(records) - 1} of its {generations} generations; finish it first, "
@@ -178,7 +181,7 @@ def _load_run(path: Path, generations: int, redo: str) -> RunRecord:
 
 def _lines(path: Path, rewrite: str) -> list[str]:
     try:
-        return [line for line in path.read_text(encoding="utf-8").splitlines() if line.strip()]
+        return path.read_text(encoding="utf-8").splitlines()
     except FileNotFoundError:
         raise ReportError(f"{path} is missing; {rewrite}") from None
     except (OSError, UnicodeDecodeError) as error:
@@ -193,9 +196,9 @@ def _count(value: Any) -> bool:
     return isinstance(value, int) and not isinstance(value, bool) and value >= 0
 
 
-def _stats_line(line: str, path: Path, number: int, rewrite: str) -> dict[str, Any]:
-    """One generation's statistics, as gaitgram writes them: a non-finite number is never one."""
-    where = f"{path}:{number}"
+def _stats_line(line: str, where: str, generation: int, rewrite: str) -> dict[str, Any]:
+    """One generation's statistics, as gaitgram writes them: a non-finite number is never one.
+    ``where`` is the file and line, as the user's editor numbers it (blank lines included)."""
     damaged = f"the file was edited or damaged: {rewrite}"
     try:
         record = json.loads(line)
@@ -203,9 +206,9 @@ def _stats_line(line: str, path: Path, number: int, rewrite: str) -> dict[str, A
         raise ReportError(f"{where}: not JSON ({error}); {damaged}") from None
     if not isinstance(record, dict):
         raise ReportError(f"{where}: not a record of one generation; {damaged}")
-    if record.get("generation") != number - 1 or not _count(record.get("generation")):
+    if record.get("generation") != generation or not _count(record.get("generation")):
         raise ReportError(
-            f"{where}: generation: {record.get('generation')!r}, expected {number - 1}; {damaged}"
+            f"{where}: generation: {record.get('generation')!r}, expected {generation}; {damaged}"
         )
     for key in ("best", "evaluations"):
         if key not in record:

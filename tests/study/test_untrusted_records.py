@@ -125,7 +125,8 @@ def test_a_best_that_is_no_number_is_refused_with_its_file_and_line(
     lines = stats.read_text().splitlines()
     record = json.loads(lines[line - 1])
     lines[line - 1] = json.dumps(record).replace(f'"best": {json.dumps(record["best"])}', f'"best": {value}')
-    stats.write_text("\n".join(lines) + "\n")
+    stats.write_text("\n\n".join(lines) + "\n")  # blank lines between: harmless, and counted
+    line = 2 * line - 1
     message = refused(
         report(copy / "s"), f"arms/mutant/run-001/stats.jsonl:{line}: best:", "not a finite number"
     )
