@@ -15,7 +15,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from gaitgram.study.runner import prepare_study, run_study
+from gaitgram.study.runner import open_study, run_study
 from gaitgram.study.spec import ScaleDown, load_study
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -39,10 +39,10 @@ def _time_study(folder: Path, jobs: int, threads: int) -> tuple[float, list[floa
     study_file.write_text(STUDY.format(grammar=ROOT / "grammars" / "hybrid.gg"))
     study = load_study(study_file, ScaleDown(generations=3, population=40))
     out = folder / f"jobs{jobs}"
-    directory = prepare_study(study, out)
-    start = time.perf_counter()
-    run_study(directory, jobs=jobs, threads=threads)
-    seconds = time.perf_counter() - start
+    with open_study(study, out) as directory:
+        start = time.perf_counter()
+        run_study(directory, jobs=jobs, threads=threads)
+        seconds = time.perf_counter() - start
     bests = [json.loads(path.read_text())["fitness"] for path in sorted(out.glob("arms/*/run-*/best.json"))]
     return seconds, bests
 

@@ -11,17 +11,31 @@ through :func:`write_output`, which writes what ``open(path, "w")`` would write
 to, but safely; see its docstring for symlinks, hard links and devices. Every
 command checks its outputs with :func:`check_output` before doing any work, so
 that an hour of rendering never ends in "no such directory".
+
+Directories that must appear whole (a run directory, a study directory) are built
+under a temporary name beside their target and renamed into place
+(:func:`created_directory`); one process at a time works in such a directory
+(:class:`DirectoryLock`).
 """
 
 from __future__ import annotations
 
+import contextlib
 import errno
+import fcntl
 import os
+import shutil
 import stat
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
+from types import TracebackType
 from typing import BinaryIO
+
+#: The lock file of a directory gaitgram works in: created once, never deleted.
+LOCK_FILE = ".lock"
+#: The suffix of a directory being built under a temporary name (see :func:`created_directory`).
+CREATING_SUFFIX = ".creating"
 
 
 def current_umask() -> int:
@@ -272,3 +286,116 @@ def _overwrite(handle: BinaryIO, payload: bytes) -> None:
     handle.truncate()
     handle.flush()
     os.fsync(handle.fileno())
+
+
+# ---- directories that appear whole, worked in by one process at a time ----------------------
+
+
+class DirectoryInUse(OSError):
+    """Another process holds the directory's lock."""
+
+    def __init__(self, directory: Path) -> None:
+        super().__init__(errno.EBUSY, "in use by another gaitgram", str(directory))
+
+
+class DirectoryLock:
+    """An exclusive lock on a directory: ``flock`` on its ``.lock`` file, until :meth:`release`.
+
+    The lock file is created once and never deleted, by anyone: deleting a lock file while
+    another process holds or waits on it is how two processes come to hold "the" lock at once.
+    The kernel drops the lock when the process dies, so a kill -9 leaves no stale lock.
+    Raises :class:`DirectoryInUse` if another process holds it.
+    """
+
+    def __init__(self, directory: Path) -> None:
+        self.directory = directory
+        path = directory / LOCK_FILE
+        while True:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o666 & ~current_umask())
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                os.close(fd)
+                raise DirectoryInUse(directory) from None
+            except BaseException:
+                os.close(fd)
+                raise
+            try:  # the file locked is still the one the directory holds (it is never replaced)
+                same = os.fstat(fd).st_ino == os.stat(path).st_ino
+            except FileNotFoundError:
+                same = False
+            if same:
+                self._fd: int | None = fd
+                return
+            os.close(fd)
+
+    def release(self) -> None:
+        if self._fd is not None:
+            os.close(self._fd)
+            self._fd = None
+
+    def __enter__(self) -> DirectoryLock:
+        return self
+
+    def __exit__(
+        self, kind: type[BaseException] | None, error: BaseException | None, trace: TracebackType | None
+    ) -> None:
+        self.release()
+
+
+def is_empty_directory(path: Path) -> bool:
+    return path.is_dir() and not path.is_symlink() and not any(path.iterdir())
+
+
+@contextlib.contextmanager
+def created_directory(path: Path) -> Iterator[Path]:
+    """A new directory at ``path`` that appears whole or not at all.
+
+    Yields a temporary directory beside ``path`` (``.NAME.XXXX.creating``) to fill; when the
+    block ends without error it is renamed to ``path``, else removed. A kill at any instant
+    leaves either no ``path`` or all of it; the temporary directory a killed attempt leaves is
+    removed by the next one (it is locked while in use, so a live one is never touched).
+    ``path`` may be missing or an empty directory; anything else raises
+    :class:`FileExistsError`, before or (if another process made it meanwhile) at the rename.
+    """
+    if (path.exists() or path.is_symlink()) and not is_empty_directory(path):
+        raise FileExistsError(errno.EEXIST, "exists and is not an empty directory", str(path))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    remove_abandoned(path)
+    while True:
+        temporary = Path(tempfile.mkdtemp(dir=path.parent, prefix=f".{path.name}.", suffix=CREATING_SUFFIX))
+        try:
+            lock = DirectoryLock(temporary)
+        except (DirectoryInUse, FileNotFoundError):  # another attempt took it for abandoned
+            continue
+        break
+    with lock:
+        try:
+            os.chmod(temporary, 0o777 & ~current_umask())  # as mkdir would make it, not mkdtemp's 0o700
+            yield temporary
+            try:
+                os.rename(temporary, path)  # onto nothing, or onto an empty directory
+            except OSError as error:
+                if error.errno in (errno.EEXIST, errno.ENOTEMPTY, errno.EISDIR, errno.ENOTDIR):
+                    raise FileExistsError(
+                        errno.EEXIST, "exists and is not an empty directory", str(path)
+                    ) from None
+                raise
+        except BaseException:
+            shutil.rmtree(temporary, ignore_errors=True)
+            raise
+
+
+def remove_abandoned(path: Path) -> None:
+    """Remove the temporary directories that attempts to create ``path`` left when killed."""
+    prefix = f".{path.name}."
+    with contextlib.suppress(OSError):
+        for sibling in path.parent.iterdir():
+            name = sibling.name
+            if not (name.startswith(prefix) and name.endswith(CREATING_SUFFIX)) or sibling.is_symlink():
+                continue
+            try:
+                with DirectoryLock(sibling):
+                    shutil.rmtree(sibling, ignore_errors=True)
+            except OSError:  # in use (a live attempt), or gone already
+                continue

@@ -120,5 +120,6 @@ BACKEND = BackendSpec(
     load=load,
     check_settings=check_settings,
     weight_names=lambda settings: frozenset(f"rms_{joint}" for joint in settings.get("targets", {})),
+    components=lambda settings: frozenset(f"rms_{joint}" for joint in settings.get("targets", {})),
     version="rms r1",
 )

@@ -68,6 +68,11 @@ class BackendSpec:
     * ``descriptors`` names measured components that tell gaits apart, each with
       the range it usually falls in, for a quality-diversity archive
       (``map-elites``) that is not told which to use; None: a run must name them.
+    * ``components(settings)`` names every component a viable gait's evaluation
+      reports under those settings, so that a strategy's objectives and
+      descriptors are checked before a run starts (a misspelt one is refused
+      with a "did you mean"); None: they are found wrong only at the first
+      viable gait.
     * ``verdict`` declares a yes/no judgement of each gait (``mujoco-horse``: "is it
       a walk?") that reports count and ``--walk`` selects by; None: the backend
       judges none.
@@ -85,6 +90,7 @@ class BackendSpec:
     cycle_frequencies: tuple[float, float] | None = None
     objectives: Callable[[Mapping[str, Any]], tuple[str, ...]] | None = None
     descriptors: Mapping[str, tuple[float, float]] | None = None
+    components: Callable[[Mapping[str, Any]], frozenset[str]] | None = None
     verdict: Verdict | None = None
 
     def checked_settings(self, settings: Mapping[str, Any]) -> dict[str, Any]:

@@ -3,6 +3,7 @@ and a verified resume."""
 
 from __future__ import annotations
 
+import contextlib
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -16,14 +17,19 @@ from gaitgram.backends.api import Evaluator
 from gaitgram.cli.common import check_output, err, load_usable
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.evolution.config import ConfigError, RunConfig, load_config, with_overrides
+from gaitgram.evolution.distributed import ClusterError, DaskEvaluator, connect
 from gaitgram.evolution.engine import CheckpointError, GenerationStats, load_checkpoint
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
 from gaitgram.evolution.session import run_session, stop_on_interrupt
 from gaitgram.extras import MissingExtra
+from gaitgram.fileio import DirectoryInUse, DirectoryLock
 from gaitgram.language.source import SourceError, read_source
 from gaitgram.pipeline import Pipeline, PipelineError
 from gaitgram.strategies.api import StrategyError
 from gaitgram.strategies.registry import load_strategy
+
+#: What makes a run refused before it starts (exit 2).
+_INPUT_ERRORS = (ConfigError, PipelineError, RunDirectoryError, CheckpointError)
 
 
 def fail(message: str, code: int = 2) -> typer.Exit:
@@ -93,32 +99,39 @@ def command(
     flags["backend"] = backend
     flags["strategy"] = strategy
     given = {k: v for k, v in flags.items() if v is not None}
-    try:
-        if resume is not None:
-            directory = _resume(resume, grammar, config, given, defines, out)
-            pipeline = directory.pipeline
-        else:
-            if grammar is None:
-                raise typer.BadParameter("give a grammar to evolve, or --resume DIR", param_hint="GRAMMAR")
-            if out is not None:
-                RunDirectory.check_new(out)  # before any work
-            values = parse_defines(defines)
-            pipeline = Pipeline.build(load_usable(grammar, values), load_config(config, given))
-            if out is None:
-                out = Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}"
-                RunDirectory.check_new(out)
-            load_strategy(pipeline)  # its library is installed, before anything is written
-        # Everything is checked and the backend loaded before a new run directory is made.
-        evaluator = _evaluator(pipeline, _runtime(pipeline, threads), scheduler, dask_local)
-        if resume is None:
-            try:
+    with contextlib.ExitStack() as held:  # the run directory's lock and the evaluator, until the end
+        try:
+            if resume is not None:
+                directory = _resume(resume, grammar, config, given, defines, out, held)
+                pipeline = directory.pipeline
+            else:
+                if grammar is None:
+                    raise typer.BadParameter(
+                        "give a grammar to evolve, or --resume DIR", param_hint="GRAMMAR"
+                    )
+                if out is not None:
+                    RunDirectory.check_new(out)  # before any work
+                values = parse_defines(defines)
+                pipeline = Pipeline.build(load_usable(grammar, values), load_config(config, given))
+                if out is None:
+                    out = Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}"
+                    RunDirectory.check_new(out)
+                load_strategy(pipeline)  # its library is installed, before anything is written
+            # Everything is checked and the backend loaded before a new run directory is made.
+            evaluator = _evaluator(pipeline, _runtime(pipeline, threads), scheduler, dask_local)
+            held.callback(evaluator.close)
+            if resume is None:
                 directory = RunDirectory.create(out, pipeline, defines=values, origin=str(grammar))
-            except RunDirectoryError:
-                evaluator.close()
-                raise
-    except (ConfigError, PipelineError, RunDirectoryError, CheckpointError, MissingExtra) as error:
-        raise fail(str(error)) from None
+                held.enter_context(_lock(directory.path))
+        except (*_INPUT_ERRORS, MissingExtra, ClusterError) as error:
+            raise fail(str(error)) from None
+        _evolve(directory, evaluator, resumed=resume is not None, quiet=quiet, jsonl=jsonl)
 
+
+def _evolve(
+    directory: RunDirectory, evaluator: Evaluator, *, resumed: bool, quiet: bool, jsonl: bool
+) -> None:
+    """Run the directory's runs with a progress display, and say how it ended."""
     run_config = directory.config
     total = run_config.runs * (run_config.generations + 1)
     out_console = Console(highlight=False, soft_wrap=True, markup=False)
@@ -158,8 +171,12 @@ def command(
             states = run_session(
                 directory,
                 evaluator,
-                resume=resume is not None,
+                resume=resumed,
                 on_generation=on_generation,
+                on_restored=lambda path: err.print(
+                    f"rewrote {path} from its run's checkpoint (it was missing or disagreed with it)",
+                    markup=False,
+                ),
                 should_stop=should_stop,
             )
     except (CheckpointError, PipelineError, StrategyError) as error:
@@ -170,8 +187,6 @@ def command(
             f"cannot write {where}: {error.strerror or error}; the run can continue from its last "
             f"checkpoint with: gaitgram evolve --resume {directory.path}"
         ) from None
-    finally:
-        evaluator.close()
 
     done = len(states) == run_config.runs and all(s.generation == run_config.generations for s in states)
     if not done:
@@ -188,6 +203,23 @@ def command(
     )
 
 
+def _lock(path: Path) -> DirectoryLock:
+    """One gaitgram at a time in a run directory: two would write the same checkpoints."""
+    try:
+        return DirectoryLock(path)
+    except DirectoryInUse:
+        raise RunDirectoryError(
+            f"{path} is in use by another gaitgram (an evolve, or the study it is an arm of); wait for "
+            "it to finish, or stop it"
+        ) from None
+    except FileNotFoundError:
+        raise RunDirectoryError(f"{path} is not a run directory (no such directory)") from None
+    except NotADirectoryError:
+        raise RunDirectoryError(f"{path} is not a run directory (not a directory)") from None
+    except OSError as error:  # a read-only directory, say: a run there cannot continue
+        raise RunDirectoryError(f"cannot write {path}: {error.strerror or error}") from None
+
+
 def _resume(
     path: Path,
     grammar: Path | None,
@@ -195,12 +227,15 @@ def _resume(
     flags: dict[str, Any],
     defines: list[str] | None,
     out: Path | None,
+    held: contextlib.ExitStack,
 ) -> RunDirectory:
-    """Open the run and refuse anything on the command line that disagrees with it."""
+    """Open the run, lock it (into ``held``) and refuse anything on the command line that
+    disagrees with it."""
     directory = RunDirectory.open(path)
     for place in (path, *(directory.run_dir(run) for run in range(directory.config.runs))):
         if place.exists():  # checkpoints are written there: before a generation is computed
             check_output(place, force=False, directory=True)
+    held.enter_context(_lock(path))
     found: list[str] = []
     if out is not None and out.resolve() != path.resolve():
         found.append(f"--out {out}: a resumed run stays in {path}")
@@ -247,18 +282,7 @@ def _runtime(pipeline: Pipeline, threads: int | None) -> dict[str, Any]:
 def _evaluator(
     pipeline: Pipeline, runtime: dict[str, Any], scheduler: str | None, dask_local: int | None
 ) -> Evaluator:
-    if not (scheduler or dask_local):
+    cluster = connect(scheduler, dask_local)
+    if cluster is None:
         return pipeline.load_evaluator(runtime)
-    from gaitgram.evolution.distributed import DaskEvaluator, DaskMissing
-
-    try:
-        return DaskEvaluator.connect(
-            pipeline.backend,
-            {**pipeline.config.backend_settings, **runtime},
-            address=scheduler,
-            local_workers=dask_local,
-        )
-    except DaskMissing as error:
-        raise fail(str(error)) from None
-    except OSError as error:
-        raise fail(f"cannot reach the Dask scheduler {scheduler}: {error}") from None
+    return DaskEvaluator(cluster, pipeline.backend, {**pipeline.config.backend_settings, **runtime})

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
-import json
 import os
 from pathlib import Path
 from typing import Annotated
@@ -12,32 +10,7 @@ import typer
 
 from gaitgram.cli.common import check_output, err, require_extra
 from gaitgram.strategies.gallery import GalleryError
-from gaitgram.study.report import (
-    ArmRecord,
-    ReportError,
-    check_comparable,
-    load_arm,
-    load_study_arms,
-    write_report,
-)
-
-
-def arms_of(directories: list[Path]) -> tuple[list[ArmRecord], str]:
-    """A study directory gives its arms; a run directory of `gaitgram evolve` is one arm. Two run
-    directories with the same name in different places are named by their full paths."""
-    arms: list[ArmRecord] = []
-    titles = []
-    for directory in directories:
-        if (directory / "study.json").is_file():
-            arms += load_study_arms(directory)
-            with contextlib.suppress(OSError, ValueError, KeyError, TypeError):
-                titles.append(json.loads((directory / "study.json").read_text(encoding="utf-8"))["title"])
-        else:
-            arms.append(load_arm(directory))
-    names = [a.name for a in arms]
-    if len(set(names)) != len(names):
-        arms = [load_arm(a.path, str(a.path), a.strategy) for a in arms]
-    return arms, " + ".join(t for t in titles if isinstance(t, str))
+from gaitgram.study.report import ReportError, check_comparable, load_arms, write_report
 
 
 def command(
@@ -85,7 +58,7 @@ def command(
         require_extra("PIL", "animations")
     check_output(out, force=False, directory=True, parents=True, flag="-o")  # before reading the runs
     try:
-        arms, title = arms_of(directories)
+        arms, title = load_arms(directories)
         check_comparable(arms)  # before anything is made
         written = write_report(arms, out, title=title, force=force, chosen=chosen, gaits=gaits)
     except (ReportError, GalleryError) as error:

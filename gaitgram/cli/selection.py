@@ -105,17 +105,31 @@ def _from_run(
     directory = RunDirectory.open(path)
     if walk:
         kept = best_walk_of_runs(directory)
-        at = kept.generation if generation is None else generation
+        at = _reached(generation, kept.generation, f"the best walk of {path} is run {kept.run}'s, which")
         recorded = kept.evaluation if at == kept.generation else None
         describe = f"{path} run {kept.run}, best walk, generation {at}"
         return SelectedGait(directory.pipeline, kept.genome, at, recorded, describe)
-    run, last, best = best_of_runs(directory)
     if genome is None and genome_file is None:
-        at = last if generation is None else generation
+        run, last, best = best_of_runs(directory)
+        at = _reached(generation, last, f"the best gait of {path} is run {run}'s, which")
         recorded = best.evaluation if at == last else None
         return SelectedGait(
             directory.pipeline, best.genome, at, recorded, f"{path} run {run}, best, generation {at}"
         )
     codons = read_genome(genome, genome_file)
-    at = directory.config.generations if generation is None else generation
+    planned = directory.config.generations
+    at = _reached(generation, planned, f"{path} runs generations 0..{planned} only;", planned=True)
     return SelectedGait(directory.pipeline, codons, at, None, f"{path}, generation {at}")
+
+
+def _reached(generation: int | None, last: int, subject: str, *, planned: bool = False) -> int:
+    """``--generation``, or ``last`` by default; a generation beyond ``last`` is refused: the run
+    never scored anything there (its joint freedom and weights may not even be defined)."""
+    if generation is None:
+        return last
+    if generation > last:
+        said = subject if planned else f"{subject} has reached generations 0..{last} only;"
+        raise SelectionError(
+            f"--generation {generation}: {said} give one of them, or leave --generation out for the last"
+        )
+    return generation

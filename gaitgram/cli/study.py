@@ -11,12 +11,19 @@ import typer
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
 from gaitgram.cli.common import check_output, err
-from gaitgram.evolution.engine import CheckpointError
-from gaitgram.evolution.rundir import RunDirectoryError
+from gaitgram.evolution.distributed import ClusterError, DaskCluster, connect
 from gaitgram.evolution.session import stop_on_interrupt
-from gaitgram.pipeline import PipelineError
-from gaitgram.study.runner import RunProgress, TaskResult, locked, prepare_study, run_study
-from gaitgram.study.spec import ScaleDown, StudyError, load_study
+from gaitgram.extras import MissingExtra
+from gaitgram.study.runner import (
+    TASK_ERRORS,
+    RunProgress,
+    StudyDirectory,
+    StudyRun,
+    TaskResult,
+    open_study,
+    run_study,
+)
+from gaitgram.study.spec import ScaleDown, load_study
 
 
 def fail(message: str, code: int = 2) -> typer.Exit:
@@ -31,7 +38,12 @@ def command(
     ],
     runs: Annotated[int | None, typer.Option(min=1, help="Runs per arm, instead of the file's.")] = None,
     generations: Annotated[
-        int | None, typer.Option(min=1, help="Generations of every run, instead of the file's.")
+        int | None,
+        typer.Option(
+            min=1,
+            help="Generations of every run, instead of the file's; weight stages and @joint free= "
+            "generations move with it (the same design, shorter).",
+        ),
     ] = None,
     population: Annotated[
         int | None,
@@ -44,7 +56,11 @@ def command(
         int | None, typer.Option(min=1, help="Simulation threads per run (default: cores / jobs).")
     ] = None,
     scheduler: Annotated[
-        str | None, typer.Option(help="Run on the Dask scheduler at this address, one run per task.")
+        str | None,
+        typer.Option(
+            help="Run on the Dask scheduler at this address (tcp://HOST:PORT), one run per task; its "
+            "workers must see the study directory (docs/study.md)."
+        ),
     ] = None,
     dask_local: Annotated[
         int | None, typer.Option(min=1, help="Run on a local Dask cluster of this many workers.")
@@ -64,16 +80,27 @@ def command(
     check_output(out, force=False, directory=True, parents=True, flag="-o")  # an existing study continues
     try:
         study = load_study(study_file, ScaleDown(runs, generations, population))
-        with locked(out):
-            directory = prepare_study(study, out)
-            results = _run(directory, jobs, threads, scheduler, dask_local, quiet)
-    except (StudyError, PipelineError, RunDirectoryError, CheckpointError) as error:
+        # The cluster answers before any directory is made; the directory is whole before any run.
+        cluster = connect(scheduler, dask_local)
+        try:
+            with open_study(study, out) as directory:
+                done = _run(directory, jobs, threads, cluster, quiet)
+        finally:
+            if cluster is not None:
+                cluster.close()
+    except (*TASK_ERRORS, ClusterError, MissingExtra) as error:
         raise fail(str(error)) from None
     except OSError as error:
         raise fail(
             f"cannot write {error.filename or out}: {error.strerror or error}; run the same command "
             "again to continue the study"
         ) from None
+    if done.restored:
+        err.print(
+            f"rewrote {len(done.restored)} record file(s) that disagreed with their runs' checkpoints: "
+            + ", ".join(str(p) for p in done.restored),
+            markup=False,
+        )
     unfinished = [t for t in directory.tasks if not directory.finished(t)]
     if unfinished:
         err.print(
@@ -82,13 +109,15 @@ def command(
         raise typer.Exit(130)
     err.print(
         f"study complete: {len(study.arms)} arms x {study.runs} runs in {out} "
-        f"({len(results)} run(s) this time); "
+        f"({len(done.results)} run(s) this time); "
         f"report with: gaitgram report {out}",
         markup=False,
     )
 
 
-def _run(directory, jobs: int, threads: int, scheduler: str | None, dask_local: int | None, quiet: bool):
+def _run(
+    directory: StudyDirectory, jobs: int, threads: int, cluster: DaskCluster | None, quiet: bool
+) -> StudyRun:
     tasks = directory.tasks
     config = {name: arm.config for name, arm in directory.arms.items()}
     per_run = {name: c.generations + 1 for name, c in config.items()}
@@ -125,15 +154,14 @@ def _run(directory, jobs: int, threads: int, scheduler: str | None, dask_local: 
     with progress, stop_on_interrupt() as should_stop:
         bar = progress.add_task("study", total=total, runs=f"0/{len(tasks)} runs", rate="-")
         on_progress([], [])
-        results = run_study(
+        done = run_study(
             directory,
             jobs=jobs,
             threads=threads,
-            scheduler=scheduler,
-            dask_local=dask_local,
+            cluster=cluster,
             on_progress=on_progress,
             should_stop=should_stop,
         )
         last_poll = 0.0
-        on_progress([], results)
-    return results
+        on_progress([], done.results)
+    return done

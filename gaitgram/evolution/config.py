@@ -114,6 +114,13 @@ class RunConfig:
                 "so that every generation has stated weights"
             )
 
+    @property
+    def budget(self) -> int:
+        """Evaluations of new genomes a run makes, whatever its strategy: the initial population,
+        then every generation's offspring (elites re-scored after a schedule change are not new
+        search). Runs compare only at equal budgets."""
+        return self.population + self.generations * (self.population - self.elite)
+
     def weights_at(self, generation: int) -> dict[str, float]:
         """The weights in force at ``generation``: the last stage that has started."""
         current: dict[str, float] = {}

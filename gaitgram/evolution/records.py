@@ -74,8 +74,21 @@ def _curves(pipeline: Pipeline, best: Individual, generation: int) -> dict[str, 
     return {joint: [round(float(v), 6) for v in batch.angles[0, j]] for j, joint in enumerate(joints)}
 
 
-def write_run_records(run_dir: Path, pipeline: Pipeline, state: RunState) -> None:
+def run_records(pipeline: Pipeline, state: RunState) -> dict[str, str]:
+    """The files a run's state gives (name -> text), in the order they are written."""
     records = [jsonio.finite_or_none(s.as_record()) for s in state.history]
-    write_atomically(run_dir / "stats.csv", stats_csv(records))
-    write_atomically(run_dir / "stats.jsonl", "".join(jsonio.dumps(r) + "\n" for r in records))
-    write_atomically(run_dir / "best.json", jsonio.dumps(best_record(pipeline, state), indent=1) + "\n")
+    return {
+        "stats.csv": stats_csv(records),
+        "stats.jsonl": "".join(jsonio.dumps(r) + "\n" for r in records),
+        "best.json": record_text(best_record(pipeline, state)),
+    }
+
+
+def record_text(content: Any) -> str:
+    """A JSON record as a run directory keeps it (``best.json``, a strategy's records)."""
+    return jsonio.dumps(content, indent=1) + "\n"
+
+
+def write_run_records(run_dir: Path, pipeline: Pipeline, state: RunState) -> None:
+    for name, text in run_records(pipeline, state).items():
+        write_atomically(run_dir / name, text)

@@ -18,15 +18,19 @@ Opening a run directory verifies it before anything runs: an edited
 ``grammar.gg`` or ``config.toml``, a backend whose version differs from the one
 that scored the run, or another engine revision is refused, naming what
 differs. A directory is created only after the pipeline has been built, and
-removed again if writing it fails, so a bad configuration never leaves a
-half-made run behind.
+whole: it is written under a temporary name beside its target and renamed into
+place (:func:`gaitgram.fileio.created_directory`), so neither a bad
+configuration nor a kill at any instant leaves a half-made run behind.
+
+A run's records (``stats.*``, ``best.json``, a strategy's records) are derived
+from its checkpoint: :meth:`RunDirectory.restore_records` rewrites those that
+are missing or disagree with it.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
-import shutil
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -38,7 +42,7 @@ from gaitgram.backends.api import Evaluation, GaitStatus
 from gaitgram.backends.registry import backend_version
 from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, differences, read_toml
 from gaitgram.evolution.engine import ENGINE_REVISION, RunState
-from gaitgram.fileio import OutputError, check_output, write_atomically
+from gaitgram.fileio import OutputError, check_output, created_directory, write_atomically
 from gaitgram.language import parse
 from gaitgram.language.source import SourceText, decode_source
 from gaitgram.pipeline import Genome, Individual, Pipeline, PipelineError
@@ -141,9 +145,8 @@ class RunDirectory:
     def create(
         cls, path: Path, pipeline: Pipeline, *, defines: Mapping[str, int], origin: str
     ) -> RunDirectory:
-        """Make a new run directory; refuses one that exists and holds anything."""
+        """Make a new run directory, whole or not at all; refuses a path that holds anything."""
         cls.check_new(path)
-        made = not path.exists()
         grammar_text = pipeline.grammar.source.text
         config_text = pipeline.config.to_toml()
         run_fingerprint = fingerprint(pipeline, defines)
@@ -163,16 +166,13 @@ class RunDirectory:
             manifest["strategy"] = pipeline.config.strategy
             manifest["strategy_version"] = strategy_version(pipeline.config)
         try:
-            path.mkdir(parents=True, exist_ok=True)
-            write_atomically(path / GRAMMAR, grammar_text)
-            write_atomically(path / CONFIG, config_text)
-            write_atomically(path / MANIFEST, jsonio.dumps(manifest, indent=1) + "\n")
+            with created_directory(path) as building:
+                write_atomically(building / GRAMMAR, grammar_text)
+                write_atomically(building / CONFIG, config_text)
+                write_atomically(building / MANIFEST, jsonio.dumps(manifest, indent=1) + "\n")
+        except FileExistsError:
+            raise RunDirectoryError(f"{path} {_why_taken(path)}") from None
         except OSError as error:
-            if made:
-                shutil.rmtree(path, ignore_errors=True)
-            else:
-                for name in (GRAMMAR, CONFIG, MANIFEST):
-                    (path / name).unlink(missing_ok=True)
             raise RunDirectoryError(f"cannot write {path}: {error.strerror or error}") from None
         return cls(path, pipeline, dict(defines), run_fingerprint, origin)
 
@@ -188,10 +188,7 @@ class RunDirectory:
         except OSError as error:
             raise RunDirectoryError(f"cannot read {path}: {error.strerror or error}") from None
         if holds:
-            raise RunDirectoryError(
-                f"{path} already exists and is not empty; pass --resume {path} to continue a run there, "
-                "or choose another --out"
-            )
+            raise RunDirectoryError(f"{path} {_why_taken(path)}")
 
     # ---- opening ---------------------------------------------------------------------
 
@@ -200,23 +197,17 @@ class RunDirectory:
         """Read and verify a run directory, and rebuild its pipeline from what it saved."""
         manifest = _read_manifest(path)
         grammar_bytes = _read_bytes(path / GRAMMAR)
-        config_bytes = _read_bytes(path / CONFIG)
         if _sha256(grammar_bytes) != manifest["grammar_sha256"]:
             raise RunDirectoryError(
                 f"{path / GRAMMAR} was edited after the run started; a run keeps the grammar it started "
                 f"with: restore the file (its original is {manifest['origin']}), or start a new run"
             )
-        if _sha256(config_bytes) not in (manifest["config_sha256"], manifest.get("previous_config_sha256")):
-            raise RunDirectoryError(
-                f"{path / CONFIG} was edited after the run started; restore it, or start a new run with "
-                "the new configuration"
-            )
+        config = saved_config(path, manifest)
         defines = manifest["defines"]
         try:
-            config = config_from_mapping(read_toml(path / CONFIG), str(path / CONFIG))
             source = decode_source(grammar_bytes, str(path / GRAMMAR))
             pipeline = build_pipeline(source, defines, config)
-        except (ConfigError, PipelineError) as error:
+        except PipelineError as error:
             raise RunDirectoryError(f"{path}: the saved run no longer builds: {error}") from None
         except ValueError as error:  # a SourceError: the saved grammar is not text
             raise RunDirectoryError(f"{path / GRAMMAR}: {error}") from None
@@ -284,6 +275,49 @@ class RunDirectory:
             raise RunDirectoryError(f"cannot write {self.path}: {error.strerror or error}") from None
         return RunDirectory.open(self.path)
 
+    # ---- records -----------------------------------------------------------------------
+
+    def restore_records(self, run: int) -> list[str]:
+        """Rewrite run ``run``'s records that are missing or disagree with its checkpoint (deleted,
+        edited, or stale after a kill between the checkpoint and the records); the names rewritten.
+
+        A strategy's records are rebuilt from its pickled state beside the checkpoint; where that
+        is gone (committed results keep none), they are left as they are.
+        """
+        from gaitgram.evolution.engine import CheckpointError, load_checkpoint, run_seed
+        from gaitgram.evolution.records import record_text, run_records
+        from gaitgram.strategies.api import RunContext, StrategyError
+        from gaitgram.strategies.registry import load_strategy
+
+        run_dir = self.run_dir(run)
+        checkpoint = run_dir / "checkpoint.json"
+        accepted = self.fingerprints
+        state = load_checkpoint(checkpoint, self.pipeline, fingerprint=accepted, run=run, with_memory=False)
+        files = run_records(self.pipeline, state)
+        if not _is_plain_ge(self.config):
+            try:
+                state = load_checkpoint(checkpoint, self.pipeline, fingerprint=accepted, run=run)
+            except CheckpointError:  # no strategy state to rebuild its records from
+                state = None
+            if state is not None and state.memory is not None:
+                strategy = load_strategy(self.pipeline)
+                context = RunContext(self.pipeline, run, run_seed(self.config.seed, self.config.runs, run))
+                try:
+                    state.memory = strategy.restore(context, state.memory)
+                except StrategyError as error:
+                    raise CheckpointError(f"{checkpoint}: {error}; it cannot be resumed") from None
+                files.update({name: record_text(c) for name, c in strategy.records(context, state).items()})
+        rewritten = []
+        for name, text in files.items():
+            try:
+                same = (run_dir / name).read_bytes() == text.encode("utf-8")
+            except OSError:
+                same = False
+            if not same:
+                write_atomically(run_dir / name, text)
+                rewritten.append(name)
+        return rewritten
+
     # ---- resuming ----------------------------------------------------------------------
 
     def differences(
@@ -342,11 +376,8 @@ def _read_manifest(path: Path) -> dict[str, Any]:
     if not path.is_dir():
         raise RunDirectoryError(f"{path} is not a run directory (no such directory)")
     if not (path / MANIFEST).exists():
-        if (path / CONFIG).exists() and (path / GRAMMAR).exists():
-            raise RunDirectoryError(
-                f"{path} was made by an older gaitgram that kept no manifest, so nothing can prove the "
-                "run is unchanged; start a new run"
-            )
+        if (path / CONFIG).exists() or (path / GRAMMAR).exists():
+            raise RunDirectoryError(f"{path} cannot be resumed: {_without_manifest(path)}")
         raise RunDirectoryError(f"{path} is not a `gaitgram evolve` run directory (no {MANIFEST})")
     try:
         manifest = json.loads(_read_bytes(path / MANIFEST).decode("utf-8"))
@@ -368,6 +399,55 @@ def _read_manifest(path: Path) -> dict[str, Any]:
     ):
         raise RunDirectoryError(f"{path / MANIFEST}: not a valid manifest (defines)")
     return manifest
+
+
+def _without_manifest(path: Path) -> str:
+    """Why a directory with a run's files but no manifest cannot be used, and what to do."""
+    if any(path.glob("run-[0-9][0-9][0-9]")):
+        return (
+            f"it was made by an older gaitgram that kept no {MANIFEST}, so nothing can prove its runs "
+            "are unchanged; start a new run with another --out (it stays as it is, to read)"
+        )
+    return (
+        f"its creation was interrupted before {MANIFEST} was written (by a gaitgram that did not yet "
+        "create run directories whole), so it holds no run; delete it and run the same command again"
+    )
+
+
+def _why_taken(path: Path) -> str:
+    """Why a new run directory cannot be made at ``path``, and what to do instead."""
+    if not path.is_dir():
+        return "exists and is not a directory; choose another --out"
+    if (path / MANIFEST).exists():
+        return f"holds a run already; continue it with --resume {path}, or choose another --out"
+    if (path / CONFIG).exists() or (path / GRAMMAR).exists():
+        return f"holds an unusable run: {_without_manifest(path)}"
+    return "already exists and is not empty; choose another --out"
+
+
+def saved_config(path: Path, manifest: Mapping[str, Any] | None) -> RunConfig:
+    """The configuration a run directory saved, checked key by key, and against the manifest's
+    digest when there is a manifest (directories of gaitgram 0.1, or made by hand, have none)."""
+    config_bytes = _read_bytes(path / CONFIG)
+    if manifest is not None and _sha256(config_bytes) not in (
+        manifest["config_sha256"],
+        manifest.get("previous_config_sha256"),
+    ):
+        raise RunDirectoryError(
+            f"{path / CONFIG} was edited after the run started; restore it, or start a new run with "
+            "the new configuration"
+        )
+    try:
+        return config_from_mapping(read_toml(path / CONFIG), str(path / CONFIG))
+    except ConfigError as error:
+        if manifest is not None:  # as saved: this gaitgram no longer reads what an older one wrote
+            raise RunDirectoryError(f"{path}: the saved run no longer builds: {error}") from None
+        raise RunDirectoryError(f"{error}; the file was edited or damaged: restore it") from None
+
+
+def read_manifest(path: Path) -> dict[str, Any] | None:
+    """A run directory's manifest, checked; None if it has none (an older or hand-made one)."""
+    return _read_manifest(path) if (path / MANIFEST).exists() else None
 
 
 def best_of_runs(directory: RunDirectory) -> tuple[int, int, Individual]:

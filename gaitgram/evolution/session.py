@@ -6,6 +6,7 @@ import signal
 import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from pathlib import Path
 from typing import Any
 
 from gaitgram import jsonio
@@ -21,27 +22,33 @@ def run_session(
     *,
     resume: bool,
     on_generation: Callable[[int, GenerationStats], None] | None = None,
+    on_restored: Callable[[Path], None] | None = None,
     should_stop: Callable[[], bool] = lambda: False,
 ) -> list[RunState]:
-    """Every run of ``directory`` in order; writes ``summary.json`` when all have finished."""
+    """Every run of ``directory`` in order; writes ``summary.json`` when all have finished. On a
+    resume, a finished run's records that disagree with its checkpoint are rewritten (each file
+    is passed to ``on_restored``)."""
     config = directory.config
     states = []
     for run in range(config.runs):
         if should_stop():
             break
-        states.append(
-            run_evolution(
-                directory.pipeline,
-                evaluator,
-                run,
-                directory.run_dir(run),
-                fingerprint=directory.fingerprint,
-                earlier_fingerprints=directory.earlier_fingerprints,
-                resume=resume,
-                on_generation=on_generation,
-                should_stop=should_stop,
-            )
+        state = run_evolution(
+            directory.pipeline,
+            evaluator,
+            run,
+            directory.run_dir(run),
+            fingerprint=directory.fingerprint,
+            earlier_fingerprints=directory.earlier_fingerprints,
+            resume=resume,
+            on_generation=on_generation,
+            should_stop=should_stop,
         )
+        if resume and state.generation == config.generations:
+            for name in directory.restore_records(run):
+                if on_restored:
+                    on_restored(directory.run_dir(run) / name)
+        states.append(state)
     finished = len(states) == config.runs and all(s.generation == config.generations for s in states)
     if finished:
         write_atomically(

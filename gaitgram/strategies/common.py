@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
@@ -132,6 +133,23 @@ def number(settings: Mapping[str, Any], key: str, default: float, low: float, hi
     if not low < value <= high:
         raise SettingsError(key, f"must be in ({low:g}, {high:g}], not {value!r}")
     return float(value)
+
+
+def reported(pipeline: Pipeline, name: str, key: str) -> None:
+    """Refuse a component the backend does not report, before the run starts: a misspelt
+    objective or descriptor would otherwise fail at the first viable gait, files written."""
+    declared = pipeline.spec.components
+    if declared is None:
+        return
+    known = sorted(declared(pipeline.config.backend_settings))
+    if name not in known:
+        close = difflib.get_close_matches(name, known, n=1)
+        hint = f"did you mean {close[0]}? " if close else ""
+        raise SettingsError(
+            key,
+            f"backend {pipeline.backend!r} reports no component {name!r}; {hint}it reports: "
+            f"{', '.join(known)}",
+        )
 
 
 def names(settings: Mapping[str, Any], key: str, default: Sequence[str]) -> list[str]:

@@ -59,10 +59,13 @@ def kept_members(run_dir: Path) -> tuple[dict[str, Any], ...] | None:
     return None
 
 
-def _is_gait(member: Any) -> bool:
-    def number(value: Any) -> bool:
-        return isinstance(value, int | float) and not isinstance(value, bool)
+def _finite(value: Any) -> bool:
+    """A number gaitgram could have written (its JSON never holds NaN or infinities)."""
+    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
 
+
+def _is_gait(member: Any) -> bool:
+    number = _finite
     return (
         isinstance(member, dict)
         and number(member.get("fitness"))
@@ -99,9 +102,15 @@ def load_fronts(arm: Path) -> list[Front]:
             continue
         data = _read(directory / FRONT)
         try:
-            objectives = tuple(str(o) for o in data["objectives"])
+            names = data["objectives"]
+            if not isinstance(names, list) or not names or not all(isinstance(o, str) for o in names):
+                raise ValueError("objectives is not a list of names")
+            objectives = tuple(names)
             members = tuple(data["front"])
-            points = np.array([m["objectives"] for m in members], dtype=float).reshape(-1, len(objectives))
+            values = [m["objectives"] for m in members]
+            if not all(isinstance(v, list) and all(_finite(x) for x in v) for v in values):
+                raise ValueError("a member's objectives are not finite numbers")
+            points = np.array(values, dtype=float).reshape(-1, len(objectives))
         except (KeyError, TypeError, ValueError) as error:
             raise RecordError(f"{directory / FRONT}: malformed ({error})") from None
         fronts.append(Front(run, objectives, points, members))
@@ -188,7 +197,7 @@ def load_repertoire(arm: Path) -> Repertoire | None:
         data = _read(directory / ARCHIVE)
         try:
             if descriptors is None:
-                descriptors = tuple(data["descriptors"])
+                descriptors = _descriptors(data["descriptors"])
                 shape = tuple(int(d["bins"]) for d in descriptors)
                 best = np.full(shape, np.nan)
                 coverage = np.zeros(shape, dtype=int)
@@ -196,8 +205,21 @@ def load_repertoire(arm: Path) -> Repertoire | None:
             assert coverage is not None
             filled.append(len(data["elites"]))
             for elite in data["elites"]:
-                cell = tuple(int(i) for i in elite["cell"])
+                cell = elite["cell"]
+                if not (
+                    isinstance(cell, list)
+                    and len(cell) == best.ndim
+                    and all(isinstance(i, int) and 0 <= i < n for i, n in zip(cell, best.shape, strict=True))
+                ):
+                    raise ValueError(
+                        f"cell {cell!r} is not a cell of the {'x'.join(map(str, best.shape))} grid"
+                    )
+                cell = tuple(cell)
                 coverage[cell] += 1
+                if not _finite(elite["fitness"]):
+                    raise ValueError(
+                        f"cell {list(cell)}: fitness {elite['fitness']!r} is not a finite number"
+                    )
                 fitness = float(elite["fitness"])
                 if np.isnan(best[cell]) or fitness < best[cell]:
                     best[cell] = fitness
@@ -207,6 +229,31 @@ def load_repertoire(arm: Path) -> Repertoire | None:
     if descriptors is None or best is None or coverage is None:
         return None
     return Repertoire(descriptors, best, coverage, elites, tuple(filled), int(best.size))
+
+
+#: More cells than any archive map-elites makes (its settings allow at most 10,000).
+MAX_CELLS = 1_000_000
+
+
+def _descriptors(value: Any) -> tuple[dict[str, Any], ...]:
+    """An archive's descriptors: one or two, each a name, a finite range and a count of bins."""
+    if not isinstance(value, list) or not 1 <= len(value) <= 2:
+        raise ValueError("descriptors is not a list of one or two descriptors")
+    for d in value:
+        if not (
+            isinstance(d, dict)
+            and isinstance(d.get("name"), str)
+            and _finite(d.get("low"))
+            and _finite(d.get("high"))
+            and d["low"] < d["high"]
+            and isinstance(d.get("bins"), int)
+            and not isinstance(d["bins"], bool)
+            and d["bins"] >= 1
+        ):
+            raise ValueError(f"descriptor {d!r} is not a name, a range low < high and bins >= 1")
+    if math.prod(d["bins"] for d in value) > MAX_CELLS:
+        raise ValueError(f"the descriptors make more than {MAX_CELLS} cells")
+    return tuple(value)
 
 
 def spread_cells(repertoire: Repertoire, count: int) -> list[tuple[int, ...]]:

@@ -39,6 +39,7 @@ from gaitgram.strategies.common import (
     component,
     elitist,
     known_keys,
+    reported,
     require_fixed_scores,
 )
 from gaitgram.strategies.registry import StrategySpec, library_version
@@ -240,6 +241,8 @@ def check(pipeline: Pipeline) -> Mapping[str, Any]:
     if len(given) > 2:
         raise SettingsError("descriptors", f"one or two descriptors (a line or a grid), not {len(given)}")
     descriptors = [_descriptor(value, i, hints) for i, value in enumerate(given)]
+    for index, descriptor in enumerate(descriptors):
+        reported(pipeline, descriptor.name, f"descriptors[{index}].name")
     if len({d.name for d in descriptors}) != len(descriptors):
         raise SettingsError("descriptors", "names a component twice")
     if math.prod(d.bins for d in descriptors) > MAX_CELLS:

@@ -29,7 +29,14 @@ from gaitgram.evolution.engine import RunState, initial_genomes
 from gaitgram.extras import require
 from gaitgram.pipeline import Individual, Pipeline
 from gaitgram.strategies.api import Genome, RunContext, Strategy, StrategyError
-from gaitgram.strategies.common import GEVariation, component, known_keys, names, require_fixed_scores
+from gaitgram.strategies.common import (
+    GEVariation,
+    component,
+    known_keys,
+    names,
+    reported,
+    require_fixed_scores,
+)
 from gaitgram.strategies.registry import StrategySpec, library_version
 
 REVISION = 1
@@ -193,6 +200,8 @@ def check(pipeline: Pipeline) -> Mapping[str, Any]:
     objectives = names(settings, "objectives", default)
     if len(objectives) < 2:
         raise SettingsError("objectives", f"nsga2 needs two or more objectives, not {objectives!r}")
+    for index, name in enumerate(objectives):
+        reported(pipeline, name, f"objectives[{index}]")
     require_fixed_scores(pipeline, "nsga2", "its population")
     return {"objectives": objectives}
 

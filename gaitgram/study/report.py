@@ -27,13 +27,14 @@ import json
 import math
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from gaitgram import jsonio
+from gaitgram.evolution.rundir import CONFIG, MANIFEST, RunDirectoryError, read_manifest, saved_config
 from gaitgram.fileio import OutputError, check_output, write_atomically
 from gaitgram.strategies.figures import (
     Front,
@@ -47,6 +48,8 @@ from gaitgram.strategies.figures import (
     spread_cells,
     trade_offs,
 )
+from gaitgram.study.manifest import STUDY_MANIFEST, read_study_manifest
+from gaitgram.study.spec import StudyError
 from gaitgram.study.stats import Comparison, bootstrap_median_ci, compare
 
 
@@ -115,54 +118,58 @@ def _share(flags: list[bool | None]) -> float | None:
     return sum(bool(flag) for flag in flags) / len(flags)
 
 
-def planned_budget(config: dict[str, Any]) -> int:
-    """Evaluations of new genomes a GE run makes: the initial population, then every generation's
-    offspring (elites re-scored after a schedule change are not new search)."""
-    return int(config["population"] + config["generations"] * (config["population"] - config["elite"]))
+def load_arm(
+    path: Path, name: str | None = None, strategy: str | None = None, *, redo: str = ""
+) -> ArmRecord:
+    """An arm from a finished run directory; refuses unfinished, unreadable or damaged runs.
 
-
-def load_arm(path: Path, name: str | None = None, strategy: str | None = None) -> ArmRecord:
-    """An arm from a finished run directory; refuses unfinished or unreadable runs."""
-    config_path = path / "config.toml"
+    Every file is untrusted input: the configuration is checked key by key (and against the
+    manifest's digest, when there is one), every line of each run's ``stats.jsonl`` and its
+    ``best.json`` field by field. ``redo`` is the command that rewrites a run's records from
+    its checkpoint (default: ``gaitgram evolve --resume`` of the arm).
+    """
+    if not (path / CONFIG).is_file() and not (path / MANIFEST).is_file():
+        raise ReportError(f"{path}: not a `gaitgram evolve` run directory (it has no {CONFIG})")
     try:
-        import tomllib
-
-        config = tomllib.loads(config_path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as error:
-        raise ReportError(f"{path}: not a `gaitgram evolve` run directory ({config_path}: {error})") from None
-    runs = []
-    for run in range(int(config.get("runs", 1))):
-        runs.append(_load_run(path / f"run-{run:03d}", int(config["generations"])))
-    try:
-        manifest = json.loads((path / "manifest.json").read_text(encoding="utf-8"))
-        backend, version = str(manifest["backend"]), str(manifest["backend_version"])
-    except (OSError, ValueError, KeyError, TypeError) as error:
-        raise ReportError(f"{path}: cannot read the run's manifest.json: {error}") from None
+        manifest = read_manifest(path)
+        config = saved_config(path, manifest)
+    except RunDirectoryError as error:
+        raise ReportError(str(error)) from None
+    redo = redo or f"gaitgram evolve --resume {path}"
+    runs = tuple(_load_run(path / f"run-{run:03d}", config.generations, redo) for run in range(config.runs))
+    # What scored the runs (a directory without a manifest, hand-made or of gaitgram 0.1, cannot say).
+    backend, version = (manifest["backend"], manifest["backend_version"]) if manifest else ("", "")
     return ArmRecord(
         name or path.name,
-        strategy or str(config.get("strategy", "ge")),
+        strategy or config.strategy,
         path,
-        planned_budget(config),
-        int(config["generations"]),
-        int(config["population"]),
-        tuple(runs),
+        config.budget,
+        config.generations,
+        config.population,
+        runs,
         backend,
         version,
     )
 
 
-def _load_run(path: Path, generations: int) -> RunRecord:
+def _load_run(path: Path, generations: int, redo: str) -> RunRecord:
+    rewrite = f"rewrite the run's records from its checkpoint with: {redo}"
     stats = path / "stats.jsonl"
-    try:
-        records = [json.loads(line) for line in stats.read_text(encoding="utf-8").splitlines() if line]
-        best_record = json.loads((path / "best.json").read_text(encoding="utf-8"))
-    except (OSError, ValueError) as error:
-        raise ReportError(f"{path}: cannot read the run's records: {error}") from None
-    if len(records) != generations + 1:
+    lines = [(n, line) for n, line in enumerate(_lines(stats, rewrite), 1) if line.strip()]
+    records = [
+        _stats_line(line, f"{stats}:{n}", generation, rewrite) for generation, (n, line) in enumerate(lines)
+    ]
+    if len(records) < generations + 1:
         raise ReportError(
-            f"{path}: the run has {len(records) - 1} of its {generations} generations; finish it first "
-            "(gaitgram evolve --resume, or the study command again)"
+            f"{path}: the run has {len(records) - 1} of its {generations} generations; finish it first, "
+            f"or if it has finished, {rewrite}"
         )
+    if len(records) > generations + 1:
+        raise ReportError(
+            f"{stats}: {len(records)} generations, but the run has {generations + 1} (0..{generations}); "
+            f"the file was edited or damaged: {rewrite}"
+        )
+    best_record = _best_record(path / "best.json", records[-1]["best"], rewrite)
 
     def column(key: str) -> np.ndarray:
         return np.array([math.nan if r.get(key) is None else float(r[key]) for r in records])
@@ -170,17 +177,88 @@ def _load_run(path: Path, generations: int) -> RunRecord:
     population = np.array([float(r["evaluations"]) for r in records])
     invalid = column("invalid")
     size = population[0] if population[0] else 1.0
-    walk = best_record.get("components", {}).get("walk")
+    walk = best_record["components"].get("walk")
     return RunRecord(
         best=column("best"),
         average=column("average_all") if "average_all" in records[0] else column("average"),
         average_viable=column("average"),
         unviable_share=invalid / size,
         evaluations=int(population.sum()),
-        final_status=str(best_record.get("status")),
-        walk=None if walk is None else bool(walk >= 0.5 and best_record.get("status") == "ok"),
+        final_status=best_record["status"],
+        walk=None if walk is None else bool(walk >= 0.5 and best_record["status"] == "ok"),
         holds_walk=_holds_walk(path, records[-1]),
     )
+
+
+def _lines(path: Path, rewrite: str) -> list[str]:
+    try:
+        return path.read_text(encoding="utf-8").splitlines()
+    except FileNotFoundError:
+        raise ReportError(f"{path} is missing; {rewrite}") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise ReportError(f"{path}: cannot read it ({error}); {rewrite}") from None
+
+
+def _finite(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _count(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
+
+
+def _stats_line(line: str, where: str, generation: int, rewrite: str) -> dict[str, Any]:
+    """One generation's statistics, as gaitgram writes them: a non-finite number is never one.
+    ``where`` is the file and line, as the user's editor numbers it (blank lines included)."""
+    damaged = f"the file was edited or damaged: {rewrite}"
+    try:
+        record = json.loads(line)
+    except ValueError as error:
+        raise ReportError(f"{where}: not JSON ({error}); {damaged}") from None
+    if not isinstance(record, dict):
+        raise ReportError(f"{where}: not a record of one generation; {damaged}")
+    if record.get("generation") != generation or not _count(record.get("generation")):
+        raise ReportError(
+            f"{where}: generation: {record.get('generation')!r}, expected {generation}; {damaged}"
+        )
+    for key in ("best", "evaluations"):
+        if key not in record:
+            raise ReportError(f"{where}: {key}: missing; {damaged}")
+    if not _finite(record["best"]):
+        raise ReportError(f"{where}: best: {record['best']!r} is not a finite number; {damaged}")
+    for key in ("evaluations", "invalid"):
+        if key in record and not _count(record[key]):
+            raise ReportError(f"{where}: {key}: {record[key]!r} is not a count; {damaged}")
+    for key, value in record.items():
+        if (key in ("average", "average_all", "std") or key.startswith("mean_")) and not (
+            value is None or _finite(value)
+        ):
+            raise ReportError(f"{where}: {key}: {value!r} is not a finite number (or null); {damaged}")
+    return record
+
+
+def _best_record(path: Path, best: float, rewrite: str) -> dict[str, Any]:
+    """``best.json``'s status and components, checked, and its fitness the statistics' last best."""
+    try:
+        record = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ReportError(f"{path} is missing; {rewrite}") from None
+    except (OSError, ValueError) as error:
+        raise ReportError(f"{path}: cannot read it ({error}); {rewrite}") from None
+    damaged = f"the file was edited or damaged: {rewrite}"
+    if not isinstance(record, dict):
+        raise ReportError(f"{path}: not a record of the best gait; {damaged}")
+    components = record.get("components")
+    if not isinstance(components, dict) or not all(_finite(v) for v in components.values()):
+        raise ReportError(f"{path}: components: not a table of finite numbers; {damaged}")
+    if not isinstance(record.get("status"), str):
+        raise ReportError(f"{path}: status: missing or not text; {damaged}")
+    if record.get("fitness") != best:
+        raise ReportError(
+            f"{path}: fitness {record.get('fitness')!r} is not the last generation's best in stats.jsonl "
+            f"({best!r}); {damaged}"
+        )
+    return record
 
 
 def _holds_walk(path: Path, final: dict[str, Any]) -> bool | None:
@@ -199,13 +277,58 @@ def _holds_walk(path: Path, final: dict[str, Any]) -> bool | None:
 
 def load_study_arms(directory: Path) -> list[ArmRecord]:
     """The arms of a study directory, in the study's order."""
+    return _study_arms(directory)[0]
+
+
+def _study_arms(directory: Path) -> tuple[list[ArmRecord], str]:
+    """The arms of a study directory, in the study's order, and its title."""
     try:
-        manifest = json.loads((directory / "study.json").read_text(encoding="utf-8"))
-    except (OSError, ValueError) as error:
-        raise ReportError(f"{directory}: not a study directory: {error}") from None
-    return [
-        load_arm(directory / "arms" / a["name"], a["name"], a.get("strategy", "ge")) for a in manifest["arms"]
+        manifest = read_study_manifest(directory)
+    except StudyError as error:
+        raise ReportError(str(error)) from None
+
+    def redo(arm: str) -> str:
+        path = directory / "arms" / arm
+        return f"gaitgram study {manifest.study_file} -o {directory} (or gaitgram evolve --resume {path})"
+
+    arms = [
+        load_arm(directory / "arms" / a.name, a.name, a.strategy, redo=redo(a.name)) for a in manifest.arms
     ]
+    return arms, manifest.title
+
+
+def load_arms(directories: Sequence[Path]) -> tuple[list[ArmRecord], str]:
+    """The arms of study directories (each gives its arms) and run directories of ``gaitgram
+    evolve`` (each one arm), and the studies' titles. A run directory given twice, under any
+    spelling (a symlink, ``..``, a study and one of its arms), is refused: it would be compared
+    with itself. Two arms of the same name are named by their paths."""
+    arms: list[ArmRecord] = []
+    titles = []
+    for directory in directories:
+        if (directory / STUDY_MANIFEST).is_file():
+            found, title = _study_arms(directory)
+            arms += found
+            titles.append(title)
+        else:
+            arms.append(load_arm(directory))
+    _refuse_duplicates(arms)
+    names = [a.name for a in arms]
+    if len(set(names)) != len(names):
+        arms = [replace(a, name=str(a.path)) for a in arms]
+    return arms, " + ".join(titles)
+
+
+def _refuse_duplicates(arms: list[ArmRecord]) -> None:
+    seen: dict[tuple[int, int], ArmRecord] = {}
+    for arm in arms:
+        info = arm.path.stat()
+        first = seen.setdefault((info.st_dev, info.st_ino), arm)
+        if first is not arm:
+            same = "given twice" if first.path == arm.path else f"the same directory as {first.path}"
+            raise ReportError(
+                f"{arm.path} is {same} ({arm.path.resolve()}): a run directory compared with itself would "
+                "look like two arms that agree; give each run directory once"
+            )
 
 
 def check_scoring(arms: list[ArmRecord]) -> None:

@@ -8,45 +8,60 @@ configuration and its index, so a study gives the same numbers whether its
 runs go one at a time, in parallel processes, or to Dask workers, and however
 often it is killed and started again.
 
+The directory is made whole (every arm and ``study.json`` under a temporary
+name, then renamed into place), so a kill at any instant leaves no study
+directory or a complete one. One gaitgram at a time works in it: the study and
+each of its arms are locked while it runs.
+
 Parallelism: by default one process per core, each running whole runs with one
 simulation thread (``python -m benchmarks study`` measures this against one run
-at a time on all threads). With ``--scheduler``/``--dask-local`` each run is one
-Dask task; workers must see the study directory (a shared file system).
+at a time on all threads). On a Dask cluster (:func:`gaitgram.evolution.distributed.connect`)
+each run is one task; workers must see the study directory (a shared file
+system). A worker that dies takes its run's current generation with it: the
+scheduler gives the task to another worker, which continues from the run's last
+checkpoint, to the same results.
 """
 
 from __future__ import annotations
 
 import contextlib
-import fcntl
 import json
 import os
 import signal
+import threading
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
-from functools import cache
+from functools import lru_cache
 from multiprocessing import get_context
 from pathlib import Path
 from typing import Any
 
 from gaitgram import jsonio
-from gaitgram.analysis import check
 from gaitgram.backends.api import Evaluator
-from gaitgram.evolution.engine import load_checkpoint, run_evolution
-from gaitgram.evolution.rundir import RunDirectory, fingerprint
+from gaitgram.evolution.distributed import DaskCluster, import_distributed
+from gaitgram.evolution.engine import CheckpointError, load_checkpoint, run_evolution
+from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, fingerprint
 from gaitgram.evolution.session import summary
 from gaitgram.extras import MissingExtra
-from gaitgram.fileio import write_atomically
-from gaitgram.language import parse
-from gaitgram.language.source import SourceError, read_source
-from gaitgram.pipeline import Pipeline, PipelineError
+from gaitgram.fileio import (
+    LOCK_FILE,
+    DirectoryInUse,
+    DirectoryLock,
+    created_directory,
+    is_empty_directory,
+    write_atomically,
+)
+from gaitgram.pipeline import PipelineError
+from gaitgram.strategies.api import StrategyError
 from gaitgram.strategies.registry import load_strategy
+from gaitgram.study.manifest import STUDY_MANIFEST, ManifestArm, StudyManifest, read_study_manifest
 from gaitgram.study.spec import Study, StudyError
 
-STUDY_MANIFEST = "study.json"
-STUDY_FORMAT = 1
 STOP_FILE = ".stop"
-LOCK_FILE = ".lock"
+#: Errors a task raises that say what is wrong in gaitgram's own words.
+TASK_ERRORS = (StudyError, RunDirectoryError, CheckpointError, PipelineError, StrategyError)
 
 
 @dataclass(frozen=True)
@@ -78,14 +93,16 @@ class StudyDirectory:
         return [Task(arm.name, run) for run in range(self.study.runs) for arm in self.study.arms]
 
     def progress(self, task: Task) -> RunProgress:
-        """How far a run has got, from its statistics file (cheap; the checkpoint is the truth)."""
+        """How far a run has got, from its statistics file (cheap, for the progress display only:
+        the checkpoint is the truth, and a line that does not read is not counted)."""
         stats = self.arms[task.arm].run_dir(task.run) / "stats.jsonl"
         generation, evaluations = -1, 0
         with contextlib.suppress(OSError, ValueError):
             for line in stats.read_text(encoding="utf-8").splitlines():
                 record = json.loads(line)
-                generation = max(generation, int(record["generation"]))
-                evaluations += int(record["evaluations"])
+                if isinstance(record, dict) and _counts(record.get("generation"), record.get("evaluations")):
+                    generation = max(generation, record["generation"])
+                    evaluations += record["evaluations"]
         return RunProgress(task.arm, task.run, generation, evaluations)
 
     def finished(self, task: Task) -> bool:
@@ -99,126 +116,118 @@ class StudyDirectory:
         return state.generation == directory.config.generations
 
 
-def prepare_study(study: Study, out: Path) -> StudyDirectory:
-    """Create the study directory, or open it again and verify that nothing would change.
-
-    Every arm is built (grammar checked, configuration resolved, backend loaded
-    once) before anything is written, so a bad arm leaves nothing behind.
-    """
-    pipelines = {arm.name: _pipeline(arm.grammar, arm.defines, arm.config, arm.name) for arm in study.arms}
-    existing = _read_manifest(out)
-    if existing is not None:
-        names = [a["name"] for a in existing["arms"]]
-        if names != [a.name for a in study.arms]:
-            raise StudyError(
-                f"{out} holds another study (arms {', '.join(names)}, {existing['runs']} runs each); "
-                "give the same study file and flags to continue it, or choose another -o"
-            )
-        if study.runs < existing["runs"]:
-            raise StudyError(
-                f"{out} holds {existing['runs']} runs per arm and a study never drops runs: give --runs "
-                f"{existing['runs']} to continue it (or more, to add runs), or choose another -o"
-            )
-    elif out.exists() and (
-        not out.is_dir() or any(p.name not in (LOCK_FILE, STOP_FILE) for p in out.iterdir())
-    ):
-        raise StudyError(f"{out} exists and is not a study directory; choose another -o")
-    for name, pipeline in pipelines.items():  # every backend and strategy loads, before anything is written
-        pipeline.load_evaluator().close()
-        try:
-            load_strategy(pipeline)
-        except MissingExtra as error:
-            raise StudyError(f"arm {name!r}: {error}") from None
-    arms: dict[str, RunDirectory] = {}
-    for arm in study.arms:
-        pipeline = pipelines[arm.name]
-        path = out / "arms" / arm.name
-        if (path / "manifest.json").exists():
-            directory = RunDirectory.open(path)
-            changed = directory.fingerprint != fingerprint(pipeline, arm.defines)
-            if changed or directory.config.runs > study.runs:
-                found = directory.differences(
-                    grammar=pipeline.grammar.source, defines=arm.defines, config=arm.config
-                )
-                raise StudyError(
-                    f"cannot continue {out}: arm {arm.name!r} differs from the one it started with:\n  - "
-                    + "\n  - ".join(found or ["its backend or engine changed"])
-                    + "\ngive the same study file and flags, or choose another -o"
-                )
-            directory = directory.grow(study.runs)  # more runs than before: the new ones are added
-        else:
-            directory = RunDirectory.create(path, pipeline, defines=arm.defines, origin=str(arm.grammar))
-        arms[arm.name] = directory
-    if existing is None or existing["runs"] != study.runs:  # written last: a killed growth grows again
-        manifest = {
-            "format": STUDY_FORMAT,
-            "title": study.title,
-            "study_file": str(study.path),
-            "runs": study.runs,
-            "arms": [
-                {
-                    "name": arm.name,
-                    "strategy": arm.strategy,
-                    "grammar": str(arm.grammar),
-                    "fingerprint": arms[arm.name].fingerprint,
-                }
-                for arm in study.arms
-            ],
-        }
-        write_atomically(out / STUDY_MANIFEST, jsonio.dumps(manifest, indent=1) + "\n")
-    return StudyDirectory(out, study, arms)
+def _counts(*values: Any) -> bool:
+    return all(isinstance(v, int) and not isinstance(v, bool) and v >= 0 for v in values)
 
 
-def _pipeline(grammar: Path, defines: Any, config: Any, arm: str) -> Pipeline:
-    try:
-        checked = check(parse(read_source(grammar), defines=defines))
-        return Pipeline.build(checked, config)
-    except SourceError as error:
-        raise StudyError(f"arm {arm!r}: {error}") from None
-    except PipelineError as error:
-        raise StudyError(f"arm {arm!r}: {error}") from None
-
-
-def _read_manifest(out: Path) -> dict[str, Any] | None:
-    path = out / STUDY_MANIFEST
-    if not path.exists():
-        return None
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as error:
-        raise StudyError(f"{path}: cannot read the study manifest: {error}") from None
-    if (
-        not isinstance(data, dict)
-        or data.get("format") != STUDY_FORMAT
-        or not isinstance(data.get("arms"), list)
-    ):
-        raise StudyError(f"{path}: not a study manifest this gaitgram can continue")
-    return data
+# ---- the directory ---------------------------------------------------------------------------
 
 
 @contextlib.contextmanager
-def locked(out: Path) -> Iterator[None]:
-    """One gaitgram at a time in a study directory: two would write the same checkpoints.
-
-    Directories made here only to hold the lock (the study directory and any parents it needed)
-    are removed again if nothing else was written.
-    """
-    made = [d for d in (out, *out.parents) if not d.exists()]  # the study directory and its parents
-    out.mkdir(parents=True, exist_ok=True)
-    handle = (out / LOCK_FILE).open("a+")
-    try:
+def open_study(study: Study, out: Path) -> Iterator[StudyDirectory]:
+    """The study directory, made whole or opened and verified, and locked (the study and each
+    arm) while the block runs. Every backend and strategy is loaded before anything is written."""
+    for arm in study.arms:
         try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise StudyError(f"{out} is in use by another gaitgram study; wait for it, or stop it") from None
-        yield
-    finally:
-        handle.close()
-        if made and {p.name for p in out.iterdir()} <= {LOCK_FILE, STOP_FILE}:
-            for name in (LOCK_FILE, STOP_FILE):
-                (out / name).unlink(missing_ok=True)
-            for directory in made:  # innermost first
-                directory.rmdir()
+            arm.pipeline.load_evaluator().close()
+            load_strategy(arm.pipeline)
+        except (MissingExtra, PipelineError) as error:
+            raise StudyError(f"{study.path}: arm {arm.name!r}: {error}") from None
+    if not (out.exists() or out.is_symlink()) or is_empty_directory(out):
+        with contextlib.suppress(FileExistsError):  # made by another gaitgram meanwhile: open it
+            _create(study, out)
+    if not (out / STUDY_MANIFEST).is_file():
+        raise StudyError(f"{out} {_not_a_study(out)}")
+    with contextlib.ExitStack() as locks:
+        locks.enter_context(_lock(out, f"{out} is in use by another gaitgram study"))
+        directory = _verified(study, out)
+        for name, arm in directory.arms.items():
+            message = f"arm {name!r} of {out} ({arm.path}) is in use by another gaitgram"
+            locks.enter_context(_lock(arm.path, message))
+        yield directory
+
+
+def _lock(directory: Path, message: str) -> DirectoryLock:
+    try:
+        return DirectoryLock(directory)
+    except DirectoryInUse:
+        raise StudyError(f"{message}; wait for it to finish, or stop it") from None
+
+
+def _not_a_study(out: Path) -> str:
+    if not out.is_dir():
+        return "exists and is not a directory; choose another -o"
+    leftovers = {p.name for p in out.iterdir()} - {LOCK_FILE, STOP_FILE}
+    if leftovers == {"arms"} and not any(out.glob("arms/*/run-[0-9][0-9][0-9]")):
+        return (
+            f"holds the start of a study that was stopped before its {STUDY_MANIFEST} was written (by a "
+            "gaitgram that did not yet make study directories whole), and no runs; delete it and run "
+            "the same command again"
+        )
+    return "exists and is not a study directory; choose another -o"
+
+
+def _manifest(study: Study, fingerprints: dict[str, str]) -> StudyManifest:
+    arms = tuple(
+        ManifestArm(arm.name, arm.strategy, str(arm.grammar), fingerprints[arm.name]) for arm in study.arms
+    )
+    return StudyManifest(study.title, str(study.path), study.runs, arms)
+
+
+def _create(study: Study, out: Path) -> None:
+    """A new study directory, made whole: every arm's run directory, then ``study.json``."""
+    try:
+        with created_directory(out) as building:
+            fingerprints = {}
+            for arm in study.arms:
+                made = RunDirectory.create(
+                    building / "arms" / arm.name, arm.pipeline, defines=arm.defines, origin=str(arm.grammar)
+                )
+                fingerprints[arm.name] = made.fingerprint
+            write_atomically(building / STUDY_MANIFEST, _manifest(study, fingerprints).text())
+    except FileExistsError:
+        raise
+    except OSError as error:
+        raise StudyError(f"cannot write {out}: {error.strerror or error}") from None
+
+
+def _verified(study: Study, out: Path) -> StudyDirectory:
+    """Open a study directory and check that the study given is the one it holds; grow it if the
+    study asks for more runs."""
+    existing = read_study_manifest(out)
+    names = [a.name for a in existing.arms]
+    if names != [a.name for a in study.arms]:
+        raise StudyError(
+            f"{out} holds another study (arms {', '.join(names)}, {existing.runs} runs each); "
+            "give the same study file and flags to continue it, or choose another -o"
+        )
+    if study.runs < existing.runs:
+        raise StudyError(
+            f"{out} holds {existing.runs} runs per arm and a study never drops runs: give --runs "
+            f"{existing.runs} to continue it (or more, to add runs), or choose another -o"
+        )
+    arms: dict[str, RunDirectory] = {}
+    for arm in study.arms:
+        path = out / "arms" / arm.name
+        if not (path.exists() or path.is_symlink()):  # an arm deleted to run it again from scratch
+            directory = RunDirectory.create(path, arm.pipeline, defines=arm.defines, origin=str(arm.grammar))
+        else:
+            directory = RunDirectory.open(path)
+        changed = directory.fingerprint != fingerprint(arm.pipeline, arm.defines)
+        if changed or directory.config.runs > study.runs:
+            found = directory.differences(
+                grammar=arm.pipeline.grammar.source, defines=arm.defines, config=arm.config
+            )
+            raise StudyError(
+                f"cannot continue {out}: arm {arm.name!r} differs from the one it started with:\n  - "
+                + "\n  - ".join(found or ["its backend or engine changed"])
+                + "\ngive the same study file and flags, or choose another -o"
+            )
+        arms[arm.name] = directory.grow(study.runs)  # more runs than before: the new ones are added
+    if existing.runs != study.runs:  # written last: a killed growth grows again
+        fingerprints = {name: arm.fingerprint for name, arm in arms.items()}
+        write_atomically(out / STUDY_MANIFEST, _manifest(study, fingerprints).text())
+    return StudyDirectory(out, study, arms)
 
 
 # ---- tasks -----------------------------------------------------------------------------------
@@ -229,28 +238,40 @@ class TaskResult:
     arm: str
     run: int
     generation: int
-    best_fitness: float
     finished: bool
 
 
-@cache
-def _opened(arm_path: str) -> RunDirectory:
-    return RunDirectory.open(Path(arm_path))
+@lru_cache(maxsize=64)
+def _opened(arm_path: str, expected: str, runs: int, thread: int) -> RunDirectory:
+    """An arm as a worker sees it, opened once per worker thread (``dask worker`` runs a task per
+    thread; a backend is never used by two at once). Keyed by what the study expects of it, so a
+    worker that outlives one study (a Dask cluster's) never runs another's arm as the old one was."""
+    directory = RunDirectory.open(Path(arm_path))
+    if directory.fingerprint != expected or directory.config.runs != runs:
+        raise RunDirectoryError(
+            f"{arm_path} changed while the study ran (its fingerprint or run count is not the study's); "
+            "run the same command again"
+        )
+    return directory
 
 
-@cache
-def _evaluator(arm_path: str, threads: int) -> Evaluator:
-    pipeline = _opened(arm_path).pipeline
+@lru_cache(maxsize=64)
+def _evaluator(arm_path: str, expected: str, runs: int, threads: int, thread: int) -> Evaluator:
+    pipeline = _opened(arm_path, expected, runs, thread).pipeline
     runtime = {"threads": threads} if "threads" in pipeline.spec.runtime_settings else {}
     return pipeline.load_evaluator(runtime)
 
 
-def run_task(arm_path: str, run: int, threads: int, stop_file: str) -> TaskResult:
+def run_task(arm_path: str, expected: str, runs: int, run: int, threads: int, stop_file: str) -> TaskResult:
     """One run of one arm to its end (or until the stop file appears), from its checkpoint if any."""
-    directory = _opened(arm_path)
+    name = Path(arm_path).name
+    if os.path.exists(stop_file):  # stopped before this task started: leave the run as it is
+        return TaskResult(name, run, -1, False)
+    thread = threading.get_ident()
+    directory = _opened(arm_path, expected, runs, thread)
     state = run_evolution(
         directory.pipeline,
-        _evaluator(arm_path, threads),
+        _evaluator(arm_path, expected, runs, threads, thread),
         run,
         directory.run_dir(run),
         fingerprint=directory.fingerprint,
@@ -258,8 +279,12 @@ def run_task(arm_path: str, run: int, threads: int, stop_file: str) -> TaskResul
         resume=True,
         should_stop=lambda: os.path.exists(stop_file),
     )
-    done = state.generation == directory.config.generations
-    return TaskResult(Path(arm_path).name, run, state.generation, state.best.fitness, done)
+    return TaskResult(name, run, state.generation, state.generation == directory.config.generations)
+
+
+def _task_arguments(directory: StudyDirectory, task: Task, threads: int, stop_file: Path) -> tuple[Any, ...]:
+    arm = directory.arms[task.arm]
+    return (str(arm.path), arm.fingerprint, arm.config.runs, task.run, threads, str(stop_file))
 
 
 def _worker_init() -> None:
@@ -276,32 +301,43 @@ def _worker_init() -> None:
         os._exit(1)
 
 
+Progress = Callable[[list[RunProgress], list[TaskResult]], None]
+
+
+@dataclass(frozen=True)
+class StudyRun:
+    results: list[TaskResult]  # the tasks run this time
+    restored: list[Path]  # records of runs finished before, rewritten from their checkpoints
+
+
 def run_study(
     directory: StudyDirectory,
     *,
     jobs: int,
     threads: int,
-    scheduler: str | None = None,
-    dask_local: int | None = None,
-    on_progress: Callable[[list[RunProgress], list[TaskResult]], None] | None = None,
+    cluster: DaskCluster | None = None,
+    on_progress: Progress | None = None,
     should_stop: Callable[[], bool] = lambda: False,
-) -> list[TaskResult]:
-    """Run every unfinished task; returns the results of the tasks run this time."""
+) -> StudyRun:
+    """Run every unfinished task (on ``cluster`` if given, else in ``jobs`` local processes).
+    The records of runs finished before are rewritten first where they disagree with their
+    checkpoints (deleted, edited, or stale after a kill)."""
     stop_file = directory.path / STOP_FILE
     stop_file.unlink(missing_ok=True)
-    pending = [t for t in directory.tasks if not directory.finished(t)]
-    if not pending:
-        _write_arm_summaries(directory)
-        return []
+    pending, restored = [], []
+    for task in directory.tasks:
+        if directory.finished(task):
+            run_dir = directory.arms[task.arm].run_dir(task.run)
+            restored += [run_dir / name for name in directory.arms[task.arm].restore_records(task.run)]
+        else:
+            pending.append(task)
     results: list[TaskResult] = []
-    if scheduler or dask_local:
-        results = _run_on_dask(
-            directory, pending, threads, stop_file, scheduler, dask_local, on_progress, should_stop
-        )
-    else:
+    if pending and cluster is not None:
+        results = _run_on_dask(directory, pending, threads, stop_file, cluster, on_progress, should_stop)
+    elif pending:
         results = _run_locally(directory, pending, jobs, threads, stop_file, on_progress, should_stop)
     _write_arm_summaries(directory)
-    return results
+    return StudyRun(results, restored)
 
 
 def _run_locally(
@@ -310,7 +346,7 @@ def _run_locally(
     jobs: int,
     threads: int,
     stop_file: Path,
-    on_progress: Callable[[list[RunProgress], list[TaskResult]], None] | None,
+    on_progress: Progress | None,
     should_stop: Callable[[], bool],
 ) -> list[TaskResult]:
     results: list[TaskResult] = []
@@ -323,14 +359,20 @@ def _run_locally(
             while queue or running:
                 while queue and len(running) < jobs and not stop_file.exists():
                     task = queue.pop(0)
-                    path = str(directory.arm_path(task.arm))
-                    running[pool.submit(run_task, path, task.run, threads, str(stop_file))] = task
+                    arguments = _task_arguments(directory, task, threads, stop_file)
+                    running[pool.submit(run_task, *arguments)] = task
                 if not running:
                     break
                 done, _ = wait(running, timeout=0.5, return_when=FIRST_COMPLETED)
                 for future in done:
-                    running.pop(future)
-                    results.append(future.result())
+                    task = running.pop(future)
+                    try:
+                        results.append(future.result())
+                    except BrokenProcessPool:
+                        raise StudyError(
+                            f"the process running run {task.run} of arm {task.arm!r} died (killed, or out of "
+                            "memory); its last checkpoint is intact: run the same command again to continue"
+                        ) from None
                 if should_stop() and not stop_file.exists():
                     stop_file.touch()  # workers finish their current generation, then return
                 if on_progress:
@@ -346,51 +388,74 @@ def _run_on_dask(
     pending: list[Task],
     threads: int,
     stop_file: Path,
-    scheduler: str | None,
-    dask_local: int | None,
-    on_progress: Callable[[list[RunProgress], list[TaskResult]], None] | None,
+    cluster: DaskCluster,
+    on_progress: Progress | None,
     should_stop: Callable[[], bool],
 ) -> list[TaskResult]:
-    from gaitgram.evolution.distributed import _import_distributed
-
-    distributed = _import_distributed()
-    cluster = None
-    if scheduler:
-        client = distributed.Client(scheduler)
-    else:
-        cluster = distributed.LocalCluster(
-            n_workers=dask_local or 1, threads_per_worker=1, processes=True, dashboard_address=None
-        )
-        client = distributed.Client(cluster)
+    """One Dask task per run. A worker that dies mid-run loses its current generation only: the
+    scheduler hands the task to another worker, which resumes from the run's checkpoint."""
+    distributed = import_distributed()
+    client = cluster.client
+    futures = {
+        client.submit(
+            run_task, *_task_arguments(directory, task, threads, stop_file), pure=False, retries=2
+        ): task
+        for task in pending
+    }
+    remaining = set(futures)
     results: list[TaskResult] = []
     try:
-        futures = {
-            client.submit(
-                run_task,
-                str(directory.arm_path(t.arm)),
-                t.run,
-                threads,
-                str(stop_file),
-                pure=False,
-                retries=2,
-            ): t
-            for t in pending
-        }
-        remaining = set(futures)
         while remaining:
-            done, remaining = distributed.wait(list(remaining), timeout=0.5, return_when="FIRST_COMPLETED")
-            results += [f.result() for f in done]
-            remaining = set(remaining)
+            try:
+                distributed.wait(list(remaining), timeout=0.5, return_when="FIRST_COMPLETED")
+            except TimeoutError:  # none finished within the poll: not an error
+                pass
+            except Exception:  # the scheduler went away: every future is cancelled
+                raise StudyError(
+                    f"lost the connection to the Dask scheduler ({cluster.flag}); the runs' last checkpoints "
+                    "are intact: start the scheduler and its workers again, then run the same command again "
+                    "to continue"
+                ) from None
+            done = {f for f in remaining if f.done()}
+            remaining -= done
+            for future in sorted(done, key=lambda f: (futures[f].run, futures[f].arm)):
+                results.append(_dask_result(future, futures[future], cluster))
             if should_stop() and not stop_file.exists():
                 stop_file.touch()
             if on_progress:
-                active = [futures[f] for f in remaining if f.status == "pending"]
-                on_progress([directory.progress(t) for t in active], results)
+                on_progress([directory.progress(futures[f]) for f in remaining], results)
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        if remaining:  # an error or a second Ctrl-C: runs on the workers stop after their generation
+            stop_file.touch()
+            with contextlib.suppress(Exception):
+                client.cancel(list(remaining))
     return results
+
+
+def _dask_result(future: Any, task: Task, cluster: DaskCluster) -> TaskResult:
+    """A task's result, or an error that says what happened on the cluster."""
+    where = f"run {task.run} of arm {task.arm!r}"
+    try:
+        return future.result()
+    except TASK_ERRORS:
+        raise
+    except Exception as error:
+        kind = type(error).__name__
+        if kind == "KilledWorker":
+            raise StudyError(
+                f"{where}: the Dask workers that took it kept dying ({error}); its last checkpoint is "
+                "intact: check the workers (memory, logs), then run the same command again to continue"
+            ) from None
+        if kind == "CancelledError" or future.status == "cancelled":
+            raise StudyError(
+                f"{where}: the Dask scheduler ({cluster.flag}) dropped it (stopped or restarted?); its last "
+                "checkpoint is intact: run the same command again to continue"
+            ) from None
+        raise StudyError(
+            f"{where} failed on a Dask worker ({cluster.flag}): {kind}: {error}; every worker needs "
+            "gaitgram with the arms' backends and strategies installed, as here, and must see the study "
+            "directory at the same path (docs/study.md)"
+        ) from None
 
 
 def _write_arm_summaries(directory: StudyDirectory) -> None:

@@ -22,8 +22,13 @@ A study file is TOML::
 A run configuration is resolved per arm in this order, each over the last:
 defaults, the study's ``config`` file, the study's ``[settings]``, the arm's
 ``config`` file, the arm's ``[settings]``, then the command line's scale-down
-flags (``--runs``, ``--generations``, ``--population``). Every key is checked
-as a run.toml's is, with the file and the arm named.
+flags (``--runs``, ``--generations``, ``--population``).
+
+Everything is checked here, before anything is written: every key as a
+run.toml's is, every arm's grammar, backend settings and strategy settings by
+building its pipeline, and the arms' budgets against each other (a study whose
+arms cannot be compared is no study). An error names the study file and the
+arm, or the flag when only the flag makes it wrong.
 """
 
 from __future__ import annotations
@@ -35,12 +40,19 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from gaitgram.diagnostics import TextEdit
 from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, read_toml
+from gaitgram.evolution.rundir import build_pipeline
+from gaitgram.language import parse
+from gaitgram.language.edits import apply_edits
+from gaitgram.language.source import SourceError, SourceText, read_source
+from gaitgram.pipeline import Pipeline, PipelineError
 from gaitgram.strategies.registry import strategy_names
 
 STUDY_KEYS = ("title", "runs", "seed", "config", "settings", "arm")
 ARM_KEYS = ("name", "grammar", "strategy", "config", "settings", "defines")
-_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
+#: An arm's name names its directory: matched whole (``fullmatch``: ``$`` would let "a\n" through).
+ARM_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
 MAX_RUNS = 10_000
 
 
@@ -55,6 +67,8 @@ class Arm:
     strategy: str
     config: RunConfig
     defines: Mapping[str, int]
+    #: Built and checked: the grammar, the configuration, the backend's and the strategy's settings.
+    pipeline: Pipeline
 
 
 @dataclass(frozen=True)
@@ -76,9 +90,19 @@ class ScaleDown:
     generations: int | None = None
     population: int | None = None
 
+    @property
+    def flags(self) -> str:
+        """The flags given, as the user typed them (for messages)."""
+        given = [("--generations", self.generations), ("--population", self.population)]
+        return " ".join(f"{flag} {value}" for flag, value in given if value is not None)
+
+
+def is_arm_name(name: object) -> bool:
+    return isinstance(name, str) and ARM_NAME.fullmatch(name) is not None
+
 
 def load_study(path: Path, scale: ScaleDown = ScaleDown()) -> Study:
-    """Read and check a study file; every arm's run configuration is resolved."""
+    """Read and check a study file, and build every arm's pipeline."""
     try:
         data = read_toml(path)
     except ConfigError as error:
@@ -89,24 +113,32 @@ def load_study(path: Path, scale: ScaleDown = ScaleDown()) -> Study:
     title = data.get("title", path.stem)
     if not isinstance(title, str):
         raise StudyError(f"{where}: title: must be text")
-    runs = scale.runs if scale.runs is not None else data.get("runs", 1)
-    if isinstance(runs, bool) or not isinstance(runs, int) or not 1 <= runs <= MAX_RUNS:
-        raise StudyError(f"{where}: runs: must be a whole number in [1, {MAX_RUNS}], not {runs!r}")
+    runs = _runs(data.get("runs", 1), f"{where}: runs")
+    if scale.runs is not None:
+        runs = _runs(scale.runs, "--runs")
     seed = data.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise StudyError(f"{where}: seed: must be a whole number >= 0, not {seed!r}")
-    shared = {**_config_file(data.get("config"), base, where), **_table(data, "settings", where)}
+    shared = {
+        **_config_file(data.get("config"), base, where),
+        **_table(data, "settings", where, "[settings]"),
+    }
     arms_data = data.get("arm")
     if not isinstance(arms_data, list) or not arms_data:
         raise StudyError(f"{where}: a study needs at least one [[arm]] with a name and a grammar")
-    arms = []
-    for index, arm in enumerate(arms_data):
-        arms.append(_arm(arm, index, base, where, shared, seed, runs, scale))
-    names = [a.name for a in arms]
+    names = [a.get("name") if isinstance(a, Mapping) else None for a in arms_data]
     for name in names:
-        if names.count(name) > 1:
+        if isinstance(name, str) and names.count(name) > 1:
             raise StudyError(f"{where}: two arms are named {name!r}; arm names must differ")
+    arms = [_arm(arm, index, base, where, shared, seed, runs, scale) for index, arm in enumerate(arms_data)]
+    _check_budgets(arms, where, scale)
     return Study(path, title, runs, tuple(arms))
+
+
+def _runs(value: Any, where: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_RUNS:
+        raise StudyError(f"{where}: must be a whole number in [1, {MAX_RUNS}], not {value!r}")
+    return value
 
 
 def _arm(
@@ -124,11 +156,12 @@ def _arm(
     name = data.get("name")
     label = f"{where}: arm {name!r}" if isinstance(name, str) else f"{where}: arm {index + 1}"
     _known(data, ARM_KEYS, label)
-    if not isinstance(name, str) or not _NAME.match(name):
+    if not is_arm_name(name):
         raise StudyError(
             f"{label}: name: must be 1-64 letters, digits, '.', '_' or '-' (it names a directory), "
             f"not {name!r}"
         )
+    assert isinstance(name, str)
     grammar = data.get("grammar")
     if not isinstance(grammar, str) or not grammar:
         raise StudyError(f"{label}: grammar: give the grammar file, relative to the study file")
@@ -145,36 +178,128 @@ def _arm(
         isinstance(v, int) and not isinstance(v, bool) for v in defines.values()
     ):
         raise StudyError(f"{label}: defines: must be a table of NAME = whole number")
-    values: dict[str, Any] = {"seed": seed, **shared}
-    values.update(_config_file(data.get("config"), base, label))
-    values.update(_table(data, "settings", label))
+    own = {
+        **_config_file(data.get("config"), base, label),
+        **_table(data, "settings", label, "[arm.settings]"),
+    }
+    if strategy is not None and own.get("strategy", strategy) != strategy:
+        raise StudyError(
+            f"{label}: strategy is {strategy!r}, but the arm's settings say {own['strategy']!r}; give it once"
+        )
+    values: dict[str, Any] = {"seed": seed, **shared, **own}
     if strategy is not None:
         values["strategy"] = strategy
     values["runs"] = runs
-    if scale.generations is not None:
-        _scale_generations(values, scale.generations)
-    if scale.population is not None:
-        _scale_population(values, scale.population)
+    path = base / grammar
+    try:
+        source = read_source(path)
+    except SourceError as error:
+        raise StudyError(f"{label}: grammar: {error}") from None
+    config, pipeline = _build(values, source, defines, label)
+    if scale.generations is not None or scale.population is not None:
+        # Valid as the file says; now as the flags scale it, which are to blame for what fails.
+        blame = f"{scale.flags} on arm {name!r} of {where}"
+        values = dict(values)
+        if scale.generations is not None:
+            source = _scale_generations(values, source, defines, scale.generations, blame)
+        if scale.population is not None:
+            _scale_population(values, scale.population)
+        config, pipeline = _build(values, source, defines, blame)
+    return Arm(name, path, config.strategy, config, dict(defines), pipeline)
+
+
+def _build(
+    values: Mapping[str, Any], source: SourceText, defines: Mapping[str, int], label: str
+) -> tuple[RunConfig, Pipeline]:
     try:
         config = config_from_mapping(values, label)
+        return config, build_pipeline(source, defines, config)
     except ConfigError as error:
         raise StudyError(str(error)) from None
-    return Arm(name, (base / grammar), config.strategy, config, dict(defines))
+    except PipelineError as error:
+        raise StudyError(f"{label}: {error}") from None
 
 
-def _scale_generations(values: dict[str, Any], generations: int) -> None:
-    """``--generations N``: a weight schedule's stages start at the same share of the run (the
-    same design, shorter), as long as each still starts at a generation of its own."""
+def _check_budgets(arms: list[Arm], where: str, scale: ScaleDown) -> None:
+    """A study's arms spend the same evaluations per run, or its report could compare nothing."""
+    budgets = {a.config.budget for a in arms}
+    if len(budgets) > 1:
+        listing = ", ".join(
+            f"{a.name}: {a.config.budget} ({a.config.population} + {a.config.generations} x "
+            f"{a.config.population - a.config.elite})"
+            for a in arms
+        )
+        cause = f"with {scale.flags}, " if scale.flags else ""
+        raise StudyError(
+            f"{where}: {cause}the arms would run at different budgets (new gaits per run, population + "
+            f"generations x (population - elite): {listing}), and a report never compares arms of "
+            "different budgets; give every arm the same generations, population and elite"
+        )
+
+
+def _scale_generations(
+    values: dict[str, Any], source: SourceText, defines: Mapping[str, int], generations: int, blame: str
+) -> SourceText:
+    """``--generations N``: what changes by generation moves with the run (the same design,
+    shorter): a weight schedule's stages and the grammar's ``@joint free=`` generations start at
+    the same share of the run, rounded. Returns the grammar with its ``free=`` scaled."""
     old = values.get("generations", RunConfig().generations)
+    if not isinstance(old, int) or old == generations:
+        values["generations"] = generations
+        return source
     schedule = values.get("weight_schedule")
-    if isinstance(old, int) and old > 0 and isinstance(schedule, list):
+    if isinstance(schedule, list):
+        starts = [s.get("start") if isinstance(s, Mapping) else None for s in schedule]
+        scaled = [_scaled(s, old, generations) if isinstance(s, int) else s for s in starts]
+        whole = [s for s in starts if isinstance(s, int)]
+        if len(set(whole)) == len(whole) and len(set(scaled)) != len(scaled):
+            more = range(generations + 1, old + 1)
+            enough = next((n for n in more if _distinct([_scaled(s, old, n) for s in whole])), old)
+            raise StudyError(
+                f"{blame}: too few generations for the arm's {len(whole)} weight stages: starting at "
+                f"generations {', '.join(map(str, whole))} of {old}, they would start at "
+                f"{', '.join(map(str, scaled))} of {generations}, some together; give --generations "
+                f"{enough} or more"
+            )
         values["weight_schedule"] = [
-            {**stage, "start": round(stage["start"] * generations / old)}
-            if isinstance(stage, Mapping) and isinstance(stage.get("start"), int)
-            else stage
-            for stage in schedule
+            {**stage, "start": start} if isinstance(stage, Mapping) else stage
+            for stage, start in zip(schedule, scaled, strict=True)
         ]
     values["generations"] = generations
+    return _scale_freedom(source, defines, old, generations)
+
+
+def _scaled(generation: int, old: int, new: int) -> int:
+    return round(generation * new / old)
+
+
+def _distinct(values: list[int]) -> bool:
+    return len(set(values)) == len(values)
+
+
+def _scale_freedom(source: SourceText, defines: Mapping[str, int], old: int, new: int) -> SourceText:
+    """The grammar with each ``@joint ... free=A..B`` scaled from ``old`` to ``new`` generations,
+    and a closing comment that says so (the run directory keeps this text: what the run used)."""
+    grammar = parse(source, defines=defines)
+    declared = {j.rule: j for j in grammar.joints}
+    edits = []
+    for rule in grammar.rules:
+        joint = declared.get(rule.name)
+        annotation = next((a for a in rule.annotations if a.name == "joint"), None)
+        argument = annotation.keyword("free") if annotation is not None else None
+        if joint is None or joint.free is None or argument is None:
+            continue
+        low, high = joint.free
+        last = "" if high is None else str(_scaled(high, old, new))
+        edits.append(TextEdit(argument.span, f"free={_scaled(low, old, new)}..{last}"))
+    if not edits:
+        return source
+    text = apply_edits(source.text, edits)
+    note = (  # no path in it: the same command from another directory makes the same text
+        f"# gaitgram study --generations {new}: the @joint free= generations above are scaled from "
+        f"the {old} generations of the study file\n"
+    )
+    return SourceText(text + ("" if text.endswith("\n") else "\n") + note, source.name)
 
 
 def _scale_population(values: dict[str, Any], population: int) -> None:
@@ -197,16 +322,29 @@ def _config_file(value: Any, base: Path, where: str) -> dict[str, Any]:
     if not isinstance(value, str):
         raise StudyError(f"{where}: config: give a run.toml file name")
     try:
-        return read_toml(base / value)
+        data = read_toml(base / value)
     except ConfigError as error:
         raise StudyError(f"{where}: config: {error}") from None
+    _no_runs(data, f"{where}: config {base / value}")
+    return data
 
 
-def _table(data: Mapping[str, Any], key: str, where: str) -> dict[str, Any]:
+def _table(data: Mapping[str, Any], key: str, where: str, header: str) -> dict[str, Any]:
     value = data.get(key, {})
     if not isinstance(value, Mapping):
         raise StudyError(f"{where}: {key}: must be a table of run.toml keys")
+    _no_runs(value, f"{where}: {header}")
     return dict(value)
+
+
+def _no_runs(table: Mapping[str, Any], where: str) -> None:
+    """``runs`` under a table would be overridden by the study's: refuse it rather than ignore it.
+    (TOML puts every key after a ``[table]`` header into that table, a common slip.)"""
+    if "runs" in table:
+        raise StudyError(
+            f"{where}: runs: a study's runs per arm are its top-level runs (or --runs), the same for "
+            "every arm; move `runs = N` above the study's first [table], or remove it here"
+        )
 
 
 def _known(data: Mapping[str, Any], keys: tuple[str, ...], where: str) -> None:

@@ -114,6 +114,7 @@ def test_run_directory_records(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.stderr
     out = tmp_path / "out"
     assert sorted(p.name for p in out.iterdir()) == [
+        ".lock",  # held while a gaitgram works in it
         "config.toml",
         "grammar.gg",
         "manifest.json",
@@ -144,8 +145,10 @@ def test_existing_run_directory_is_never_overwritten(tmp_path: Path) -> None:
     (out / "notes.txt").write_text("mine")
     result = runner.invoke(app, ["evolve", str(tmp_path / "g.gg"), "-c", str(config), "-o", str(out), "-q"])
     assert result.exit_code == 2
-    assert "--resume" in result.stderr
+    assert "choose another --out" in result.stderr
+    assert "--resume" not in result.stderr  # it holds no run to resume
     assert (out / "notes.txt").read_text() == "mine"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["g.gg", "out", "run.toml"]  # nothing left beside it
 
 
 def test_config_errors_are_clear(tmp_path: Path) -> None:

@@ -17,7 +17,7 @@ from gaitgram.cli import app
 from gaitgram.language import parse
 from gaitgram.language.source import read_source
 from gaitgram.pipeline import Pipeline
-from gaitgram.study.report import load_study_arms, planned_budget
+from gaitgram.study.report import load_study_arms
 from gaitgram.study.spec import ScaleDown, StudyError, load_study
 
 runner = CliRunner()
@@ -128,12 +128,12 @@ def test_the_bundled_strategies_study_compares_at_the_table_1_budget() -> None:
     assert study.runs == 30
     for arm in study.arms:
         assert (arm.config.generations, arm.config.population, arm.config.elite) == (50, 75, 7)
-        assert planned_budget(arm.config.as_dict()) == 3475
+        assert arm.config.budget == 3475
         assert "weights" not in arm.config.backend_settings  # the defaults: under them GE walks
         pipeline = Pipeline.build(check(parse(read_source(arm.grammar))), arm.config)
         assert pipeline.config.strategy == arm.strategy
     small = load_study(ROOT / "studies" / "strategies.toml", ScaleDown(runs=5, generations=10, population=30))
-    assert {planned_budget(a.config.as_dict()) for a in small.arms} == {30 + 10 * 27}
+    assert {a.config.budget for a in small.arms} == {30 + 10 * 27}
 
 
 def test_the_multi_objective_study_is_the_strategies_ge_arm_but_for_the_strategy() -> None:

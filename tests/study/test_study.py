@@ -218,14 +218,13 @@ def write_arm(path: Path, runs: list[dict]) -> Path:
     final population's mean walk and, optionally, a Pareto front or repertoire."""
     path.mkdir(parents=True)
     (path / "config.toml").write_text(f"generations = 1\npopulation = 4\nelite = 1\nruns = {len(runs)}\n")
-    manifest = {"backend": "mujoco-horse", "backend_version": "by hand"}
-    (path / "manifest.json").write_text(json.dumps(manifest))
     for index, run in enumerate(runs):
         directory = path / f"run-{index:03d}"
         directory.mkdir()
-        rows = [{"best": 1.0, "average": 1.0, "invalid": 0, "evaluations": 4, **run.get("stats", {})}] * 2
+        row = {"best": 1.0, "average": 1.0, "invalid": 0, "evaluations": 4, **run.get("stats", {})}
+        rows = [{"generation": generation, **row} for generation in range(2)]
         (directory / "stats.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows))
-        best = {"status": "ok", "components": {"walk": run["best_walk"]}}
+        best = {"fitness": 1.0, "status": "ok", "components": {"walk": run["best_walk"]}}
         (directory / "best.json").write_text(json.dumps(best))
         for name, key in (("front.json", "front"), ("archive.json", "elites")):
             if name in run:

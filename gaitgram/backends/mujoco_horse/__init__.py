@@ -22,6 +22,18 @@ from gaitgram.backends.mujoco_horse.task import (
 from gaitgram.backends.registry import BackendSpec
 
 CATALOGUE = load_catalogue(files(__name__).joinpath("joints.toml"))
+#: What a viable gait's evaluation reports (evaluator.py's ``_judge``; a test keeps them equal).
+COMPONENTS = WEIGHT_NAMES | {
+    "measured_velocity",
+    "measured_duty_factor",
+    "measured_stride",
+    "measured_frequency",
+    "measured_work",
+    "measured_speed_spread",
+    *WALK_COMPONENTS,
+    "walk",
+    "checked_cycles",
+}
 
 
 def load(settings: Mapping[str, Any] | None = None) -> Any:
@@ -71,4 +83,5 @@ BACKEND = BackendSpec(
     # From a slow walk to a fast trot: speed (m/s) and the share of the cycle a hoof is down.
     descriptors={"measured_velocity": (0.0, 3.0), "measured_duty_factor": (0.3, 0.9)},
     verdict=Verdict("walk", "walk", WALK_COMPONENTS, "walk_sustained"),
+    components=lambda settings: COMPONENTS,
 )

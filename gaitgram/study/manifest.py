@@ -1,0 +1,112 @@
+"""``study.json``: what a study directory holds, read back as untrusted input.
+
+Written by :mod:`gaitgram.study.runner` when a study directory is made or grows,
+and read by ``gaitgram study`` (to continue it) and ``gaitgram report`` (to find
+its arms). Every field is checked when it is read: an edited or damaged file is
+an error naming the file and the field, never a traceback.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from gaitgram import jsonio
+from gaitgram.study.spec import MAX_RUNS, StudyError, is_arm_name
+
+STUDY_MANIFEST = "study.json"
+STUDY_FORMAT = 1
+
+
+@dataclass(frozen=True)
+class ManifestArm:
+    name: str
+    strategy: str
+    grammar: str
+    fingerprint: str
+
+
+@dataclass(frozen=True)
+class StudyManifest:
+    title: str
+    study_file: str
+    runs: int
+    arms: tuple[ManifestArm, ...]
+
+    def text(self) -> str:
+        data = {
+            "format": STUDY_FORMAT,
+            "title": self.title,
+            "study_file": self.study_file,
+            "runs": self.runs,
+            "arms": [
+                {"name": a.name, "strategy": a.strategy, "grammar": a.grammar, "fingerprint": a.fingerprint}
+                for a in self.arms
+            ],
+        }
+        return jsonio.dumps(data, indent=1) + "\n"
+
+
+def read_study_manifest(directory: Path) -> StudyManifest:
+    """The manifest of a study directory, every field checked."""
+    path = directory / STUDY_MANIFEST
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise StudyError(f"{directory} is not a study directory (no {STUDY_MANIFEST})") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise StudyError(f"{path}: cannot read the study manifest: {error}") from None
+    except json.JSONDecodeError as error:
+        raise StudyError(f"{path}: not JSON ({error}); {_DAMAGED}") from None
+    if not isinstance(data, dict):
+        raise StudyError(f"{path}: not a study manifest; {_DAMAGED}")
+    if data.get("format") != STUDY_FORMAT:
+        raise StudyError(
+            f"{path}: format {data.get('format')!r} is not {STUDY_FORMAT}: made by another gaitgram, "
+            "or edited; continue it with the gaitgram that made it"
+        )
+    title = _field(data, "title", str, path)
+    study_file = _field(data, "study_file", str, path)
+    runs = _field(data, "runs", int, path)
+    if not 1 <= runs <= MAX_RUNS:
+        raise StudyError(f"{path}: runs: must be a whole number in [1, {MAX_RUNS}], not {runs!r}; {_DAMAGED}")
+    arms_data = _field(data, "arms", list, path)
+    if not arms_data:
+        raise StudyError(f"{path}: arms: the study has no arms; {_DAMAGED}")
+    arms = []
+    for index, arm in enumerate(arms_data):
+        where = f"arms[{index}]"
+        if not isinstance(arm, dict):
+            raise StudyError(f"{path}: {where}: not a record; {_DAMAGED}")
+        name = _field(arm, "name", str, path, where)
+        if not is_arm_name(name):
+            raise StudyError(f"{path}: {where}.name: {name!r} cannot name an arm directory; {_DAMAGED}")
+        arms.append(
+            ManifestArm(
+                name,
+                _field(arm, "strategy", str, path, where),
+                _field(arm, "grammar", str, path, where),
+                _field(arm, "fingerprint", str, path, where),
+            )
+        )
+    names = [a.name for a in arms]
+    if len(set(names)) != len(names):
+        raise StudyError(f"{path}: arms: two arms have the same name; {_DAMAGED}")
+    return StudyManifest(title, study_file, runs, tuple(arms))
+
+
+_DAMAGED = "the file was edited or damaged: restore it (gaitgram writes it; nothing needs editing it)"
+
+
+def _field(data: dict[str, Any], key: str, kind: type, path: Path, within: str = "") -> Any:
+    value = data.get(key)
+    if not isinstance(value, kind) or isinstance(value, bool):
+        where = f"{within}.{key}" if within else key
+        what = "missing" if key not in data else f"{value!r} is not {_KINDS[kind]}"
+        raise StudyError(f"{path}: {where}: {what}; {_DAMAGED}")
+    return value
+
+
+_KINDS = {str: "text", int: "a whole number", list: "a list"}
