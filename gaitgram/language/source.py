@@ -309,8 +309,10 @@ def encode_as_read(read: bytes, text: str) -> bytes:
     parts: list[str] = []
     matcher = difflib.SequenceMatcher(None, old_lines, new_lines, autojunk=False)
     for tag, i1, i2, j1, j2 in matcher.get_opcodes():
-        if tag == "equal":
-            parts += raw_lines[i1:i2]
-        else:
-            parts += [line.replace("\n", newline) for line in new_lines[j1:j2]]
+        for line in (
+            raw_lines[i1:i2] if tag == "equal" else (x.replace("\n", newline) for x in new_lines[j1:j2])
+        ):
+            if line.startswith("\n") and parts and parts[-1].endswith("\r"):
+                parts[-1] += "\n"  # a lone CR then an LF would read as one CRLF break, not two
+            parts.append(line)
     return bom + "".join(parts).encode("utf-8")

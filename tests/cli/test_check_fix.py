@@ -125,6 +125,15 @@ def test_diff_is_the_exact_bytes_so_patch_makes_what_fix_writes(tmp_path: Path) 
     assert (tmp_path / "raw.gg").read_bytes() == fixed
 
 
+def test_a_blank_line_after_a_fixed_line_is_kept_in_a_file_of_cr_line_breaks(tmp_path: Path) -> None:
+    """The fixed line gets the file's most common line break, CR; before the blank line's LF it
+    would read as one CRLF break, and the blank line would be gone."""
+    path = tmp_path / "cr.gg"
+    path.write_bytes(b"# a\r# b\r# c\r<a> ::= p | | q\n\n<b> ::= r\r")
+    runner.invoke(app, ["check", "--fix", str(path)])
+    assert path.read_bytes() == b"# a\r# b\r# c\r<a> ::= p | q\r\n\n<b> ::= r\r"
+
+
 def test_a_second_fix_changes_nothing(tmp_path: Path) -> None:
     """Closing the string makes the merge of the two <amp> rules possible: the first run does
     both, where it used to leave the merge for a second run."""
