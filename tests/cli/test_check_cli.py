@@ -91,6 +91,18 @@ def test_defines(tmp_path: Path) -> None:
     assert runner.invoke(app, ["check", "-D", "n_vars=3", str(path)]).exit_code == 0
 
 
+def test_a_define_of_thousands_of_digits_is_too_large_in_a_short_message(tmp_path: Path) -> None:
+    path = tmp_path / "d.gg"
+    path.write_text("<a> ::= GE_RANGE:n\n")
+    result = runner.invoke(app, ["check", "-D", f"n={'9' * 5000}", str(path)])
+    assert result.exit_code == 2
+    assert "n=999999999999…: the value is too large" in result.output
+    assert len(result.output) < 400
+    large = runner.invoke(app, ["check", "-D", f"n={'9' * 40}", str(path)])  # int() reads it
+    assert large.exit_code == 1
+    assert "GE_RANGE:n is too large; its size must be between 1 and 100,000" in large.output
+
+
 def test_bundled_grammars_pass_strict() -> None:
     paths = sorted(str(p) for p in GRAMMARS.glob("*.gg"))
     assert paths
