@@ -21,11 +21,16 @@ import cattrs
 from cattrs.errors import ClassValidationError
 from lsprotocol import types
 from pygls.capabilities import get_capability
-from pygls.exceptions import JsonRpcContentModified, JsonRpcInvalidParams, JsonRpcInvalidRequest
+from pygls.exceptions import (
+    JsonRpcContentModified,
+    JsonRpcInvalidParams,
+    JsonRpcInvalidRequest,
+    JsonRpcServerNotInitialized,
+)
 from pygls.io_ import StdinAsyncReader, StdoutWriter, run_async
 from pygls.lsp.server import LanguageServer
 from pygls.protocol import JsonRPCNotification, JsonRPCProtocol, LanguageServerProtocol, default_converter
-from pygls.protocol.json_rpc import RPCMessage, RPCRequest
+from pygls.protocol.json_rpc import RPCMessage, RPCNotification, RPCRequest
 from pygls.protocol.language_server import lsp_method
 
 from gaitgram import __version__
@@ -125,9 +130,15 @@ class GaitgramProtocol(LanguageServerProtocol):
             self._refuse(data["id"], error.code, f"invalid params for {data['method']}: {reason}")
             return _ANSWERED
 
+    #: Whether ``initialize`` was received (the specification: once, and before anything else).
+    initialize_received = False
+
     def handle_message(self, message: RPCMessage) -> None:
-        """As pygls's, but after ``shutdown`` a request (another ``shutdown`` too) gets
-        InvalidRequest, as the specification says; pygls drops it unanswered."""
+        """As pygls's, but the requests the specification refuses get their errors: before
+        ``initialize`` ServerNotInitialized, a second ``initialize`` and any request after
+        ``shutdown`` (another ``shutdown`` too) InvalidRequest. pygls drops some unanswered,
+        and serves others before the server is set up. Notifications before ``initialize``
+        are dropped, as the specification says, but for ``exit``."""
         if message is _ANSWERED:
             return
         if isinstance(message, dict):  # no "jsonrpc", so structure_message left it a plain object
@@ -135,12 +146,26 @@ class GaitgramProtocol(LanguageServerProtocol):
                 reason = 'invalid request: a message needs "jsonrpc": "2.0"'
                 self._refuse(message["id"], JsonRpcInvalidRequest.CODE, reason)
             return
-        if self._shutdown and isinstance(message, RPCRequest):
-            self._refuse(
-                message.id,
-                JsonRpcInvalidRequest.CODE,
-                f"the server is shut down: it takes only the exit notification now, not {message.method}",
-            )
+        if isinstance(message, RPCRequest):
+            method = message.method
+            if self._shutdown:
+                reason = f"the server is shut down: it takes only the exit notification now, not {method}"
+                self._refuse(message.id, JsonRpcInvalidRequest.CODE, reason)
+                return
+            if method == types.INITIALIZE:
+                if self.initialize_received:
+                    self._refuse(message.id, JsonRpcInvalidRequest.CODE, "initialize may be sent only once")
+                    return
+                self.initialize_received = True
+            elif not self.initialize_received:
+                reason = f"the server is not initialized: send initialize before {method}"
+                self._refuse(message.id, JsonRpcServerNotInitialized.CODE, reason)
+                return
+        elif (
+            isinstance(message, RPCNotification)
+            and not self.initialize_received
+            and message.method != types.EXIT
+        ):
             return
         super().handle_message(message)
 

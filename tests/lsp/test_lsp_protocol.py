@@ -12,6 +12,7 @@ import pytest
 from rawrpc import CLI_SERVER, DOCUMENT, SERVER, RawServer
 
 INVALID_REQUEST = -32600
+SERVER_NOT_INITIALIZED = -32002
 HOVER = {"textDocument": {"uri": DOCUMENT["uri"]}, "position": {"line": 0, "character": 9}}
 
 
@@ -26,6 +27,27 @@ def server() -> Iterator[RawServer]:
 def refused(answer: dict, *words: str) -> bool:
     error = answer.get("error") or {}
     return error.get("code") == INVALID_REQUEST and all(word in error.get("message", "") for word in words)
+
+
+def test_before_initialize_requests_get_server_not_initialized_and_initialize_is_taken_once() -> None:
+    server = RawServer()
+    try:
+        server.send({"method": "textDocument/didOpen", "params": {"textDocument": DOCUMENT}})  # dropped
+        server.send({"id": 1, "method": "textDocument/hover", "params": HOVER})
+        server.send({"id": 2, "method": "shutdown"})
+        found = server.answers({1, 2}, timeout=10)
+        assert set(found) == {1, 2}, found
+        for answer in found.values():
+            assert answer["error"]["code"] == SERVER_NOT_INITIALIZED
+            assert "send initialize before" in answer["error"]["message"]
+        server.send({"id": 3, "method": "initialize", "params": {"processId": None, "capabilities": {}}})
+        assert "capabilities" in server.answers({3}, timeout=30)[3]["result"]
+        server.send({"id": 4, "method": "initialize", "params": {"processId": None, "capabilities": {}}})
+        assert refused(server.answers({4}, timeout=10)[4], "only once")
+        server.send({"id": 5, "method": "textDocument/hover", "params": HOVER})
+        assert server.answers({5}, timeout=10)[5]["result"] is None  # the early didOpen was not taken
+    finally:
+        server.close()
 
 
 def test_after_shutdown_requests_get_invalid_request_and_exit_ends_with_0(server: RawServer) -> None:
