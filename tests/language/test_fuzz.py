@@ -124,7 +124,9 @@ def extreme(draw: st.DrawFn) -> str:
     )
 
 
-NUMERALS = st.one_of(spelt(), spelt(), extreme())
+#: What a number is not in this language, but is in others'.
+NOT_NUMBERS = st.sampled_from(["nan", "NaN", "inf", "-Infinity", "1e", ".", "0x10", "1_000", "١٢", "²"])
+NUMERALS = st.one_of(spelt(), spelt(), extreme(), NOT_NUMBERS)
 NUMBER_SYNTAX = [
     "int[{a}..{b}]",
     "int[{a}..{b} step {c}]",
