@@ -10,8 +10,14 @@ and applies them. :func:`fix_source` is what ``check --fix`` does to one file:
 * it keeps an edit only if the grammar has no error it did not have before (errors are
   compared by code, rule and the text they are about, so moving text does not count): a
   batch that would add one is halved until a part does not, and a single fix that adds one
-  is never applied. So fixing never makes a file worse, and a file without diagnostics is
-  never changed, whatever the fixes are.
+  is not applied to that text. So fixing never makes a file worse, and a file without
+  diagnostics is never changed, whatever the fixes are;
+* it stops at a fixed point: when no fix is left that applies to the text as it now is. A
+  fix refused in one text is tried again once other fixes changed it (closing a string can
+  make a merge possible), and a fix left out of a batch for overlapping another is tried in
+  a later round. Fixing the result again therefore changes nothing. A text that keeps
+  changing for :data:`MAX_PASSES` rounds is given up on, and :attr:`FixOutcome.converged`
+  says so.
 """
 
 from __future__ import annotations
@@ -40,7 +46,8 @@ __all__ = [
     "no_worse",
 ]
 
-#: ``check --fix`` gives up after this many rounds of fixing and checking again.
+#: ``check --fix`` gives up after this many rounds that changed the text (each applies every
+#: fix it can at once, so real grammars settle in two or three).
 MAX_PASSES = 20
 
 ErrorKey = tuple[str, str | None, str]
@@ -67,8 +74,14 @@ class FixOutcome:
     result: CheckResult
     #: Remaining diagnostics whose fix ``--unsafe-fixes`` would try.
     unsafe_available: int
-    #: Fixes not applied because they would have added an error.
+    #: Fixes not applied because they would have added an error (each counted once, though
+    #: it may have been tried on several versions of the text).
     refused: int
+    #: Whether no fix is left to apply (false only if fixing gave up after :data:`MAX_PASSES`
+    #: rounds), so that fixing ``text`` again changes nothing.
+    converged: bool = True
+    #: Rounds of fixes that changed the text.
+    passes: int = 0
 
     @property
     def changed(self) -> bool:
@@ -107,7 +120,8 @@ def fix_source(
     """Apply the chosen fixes of ``source``'s diagnostics until none is left (see the module doc)."""
     result = check(parse(source, defines=defines))
     applied: list[AppliedFix] = []
-    refused: set[tuple[str, str, str]] = set()
+    refused: set[tuple[str, str, str]] = set()  # in the text as it is now
+    ever_refused: set[tuple[str, str, str]] = set()
 
     def attempt(batch: Sequence[tuple[Diagnostic, Fix]]) -> CheckResult | None:
         text = result.grammar.source.text
@@ -124,32 +138,38 @@ def fix_source(
         batch: Sequence[tuple[Diagnostic, Fix]],
     ) -> tuple[Sequence[tuple[Diagnostic, Fix]], CheckResult] | None:
         """The batch if it adds no error, else the first half of it (halving) that does not;
-        a single fix that adds one is refused for good. A few checks even for many fixes."""
+        a single fix that adds one is refused for this text. A few checks even for many fixes."""
         new = attempt(batch)
         if new is not None:
             return batch, new
         if len(batch) == 1:
             refused.add(_key(result, *batch[0]))
+            ever_refused.add(_key(result, *batch[0]))
             return None
         half = len(batch) // 2
         return settle(batch[:half]) or settle(batch[half:])
 
-    for _ in range(MAX_PASSES):
-        candidates = [
-            (found, fix)
-            for found in result.diagnostics
-            if (fix := chosen_fix(found, unsafe=unsafe)) is not None
-            and _key(result, found, fix) not in refused
-        ]
-        if not candidates:
-            break
+    passes = 0
+    converged = True
+    while candidates := [
+        (found, fix)
+        for found in result.diagnostics
+        if (fix := chosen_fix(found, unsafe=unsafe)) is not None and _key(result, found, fix) not in refused
+    ]:
+        # Each round either changes the text or refuses at least one more fix of it, so
+        # rounds that change nothing end by themselves; rounds that do are counted.
         settled = settle(_compatible(candidates))
         if settled is None:
+            continue
+        if passes == MAX_PASSES:
+            converged = False
             break
+        passes += 1
         batch, new = settled
         source_now = result.grammar.source
         applied += [AppliedFix(d.code, f.title, source_now.location(d.span.start)) for d, f in batch]
         result = new
+        refused.clear()  # refused for the old text: the new one may take them
 
     remaining = sum(
         1 for d in result.diagnostics if chosen_fix(d) is None and chosen_fix(d, unsafe=True) is not None
@@ -160,7 +180,9 @@ def fix_source(
         applied=tuple(applied),
         result=result,
         unsafe_available=0 if unsafe else remaining,
-        refused=len(refused),
+        refused=len(ever_refused),
+        converged=converged,
+        passes=passes,
     )
 
 

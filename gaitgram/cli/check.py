@@ -2,10 +2,6 @@
 
 from __future__ import annotations
 
-import codecs
-import difflib
-import re
-from collections import Counter
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
@@ -15,14 +11,15 @@ from rich.console import Console
 
 from gaitgram import jsonio
 from gaitgram.analysis import CheckResult, check
-from gaitgram.analysis.fixes import FixOutcome, fix_source
+from gaitgram.analysis.fixes import fix_source
 from gaitgram.cli.options import Defines, parse_defines
-from gaitgram.cli.output import as_json, effective_severity, human, plural, print_source_error
+from gaitgram.cli.output import as_json, effective_severity, human, plural, print_source_error, unified_diff
 from gaitgram.cli.sarif import CheckedFile, sarif_log
+from gaitgram.cli.stdout import write_bytes
 from gaitgram.diagnostics import Severity
 from gaitgram.fileio import OutputError, check_rewritable, write_output
 from gaitgram.language import SourceError, parse
-from gaitgram.language.source import decode_source, describe_os_error, read_bytes
+from gaitgram.language.source import decode_source, describe_os_error, encode_as_read, read_bytes
 
 
 class OutputFormat(StrEnum):
@@ -86,10 +83,17 @@ def command(
             result = outcome.result
             unsafe_left += outcome.unsafe_available
             written = True
+            if not outcome.converged:
+                err.print(
+                    f"warning: {path}: the fixes did not settle after {plural(outcome.passes, 'round')}, "
+                    "each making more to fix; run the command again for the rest",
+                    style="bold yellow",
+                )
             if outcome.changed:
+                fixed = encode_as_read(data, outcome.text)
                 if diff:
-                    out.out(_diff(str(path), outcome), end="")
-                elif not _write(err, path, data, outcome):
+                    write_bytes(unified_diff(str(path), data, fixed))
+                elif not _write(err, path, data, fixed):
                     failed += 1
                     written = False
                     result = check(parse(source, defines=values))  # what is in the file
@@ -145,9 +149,9 @@ def _report(
         checked.append(CheckedFile(source.name, source, result.diagnostics))
 
 
-def _write(err: Console, path: Path, read: bytes, outcome: FixOutcome) -> bool:
-    """Write the fixed text over ``path``, as it was read (byte order mark, line breaks) but
-    for the fixes; refused if the file changed since it was read. False if not written."""
+def _write(err: Console, path: Path, read: bytes, fixed: bytes) -> bool:
+    """Write ``fixed`` over ``path``; refused if the file changed since it was read. False if
+    not written."""
     try:
         check_rewritable(path)  # a regular file, not read-only
         if read_bytes(path) != read:
@@ -156,7 +160,7 @@ def _write(err: Console, path: Path, read: bytes, outcome: FixOutcome) -> bool:
                 style="bold red",
             )
             return False
-        write_output(path, _as_read(read, outcome.original.text, outcome.text))
+        write_output(path, fixed)
     except SourceError as error:
         err.print(f"error: cannot write {path}: {error.message}", style="bold red")
         return False
@@ -167,37 +171,6 @@ def _write(err: Console, path: Path, read: bytes, outcome: FixOutcome) -> bool:
         err.print(f"error: cannot write {path}: {describe_os_error(error)}", style="bold red")
         return False
     return True
-
-
-_RAW_LINE = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+$")
-_LINE = re.compile(r"[^\n]*\n|[^\n]+$")
-_NEWLINE = re.compile(r"\r\n|\r|\n")
-
-
-def _as_read(read: bytes, before: str, after: str) -> bytes:
-    """``after`` (newline-normalised, as the fixes were made) with the layout of the file as read:
-    its byte order mark, and the line breaks of the lines the fixes left alone (new lines get
-    the file's most common line break)."""
-    bom = codecs.BOM_UTF8 if read.startswith(codecs.BOM_UTF8) else b""
-    raw = read[len(bom) :].decode("utf-8")
-    if "\r" not in raw:
-        return bom + after.encode("utf-8")
-    newline = Counter(_NEWLINE.findall(raw)).most_common(1)[0][0]
-    # Normalising newlines maps each line break to one "\n", so the lines correspond one to one.
-    raw_lines, old_lines, new_lines = _RAW_LINE.findall(raw), _LINE.findall(before), _LINE.findall(after)
-    parts: list[str] = []
-    matcher = difflib.SequenceMatcher(None, old_lines, new_lines, autojunk=False)
-    for tag, i1, i2, j1, j2 in matcher.get_opcodes():
-        if tag == "equal":
-            parts += raw_lines[i1:i2]
-        else:
-            parts += [line.replace("\n", newline) for line in new_lines[j1:j2]]
-    return bom + "".join(parts).encode("utf-8")
-
-
-def _diff(path: str, outcome: FixOutcome) -> str:
-    before, after = _LINE.findall(outcome.original.text), _LINE.findall(outcome.text)
-    return "".join(difflib.unified_diff(before, after, path, path))
 
 
 def _summary(counts: dict[Severity, int], checked: int, unreadable: int) -> str:

@@ -2,17 +2,17 @@
 
 from __future__ import annotations
 
-import difflib
 from pathlib import Path
 from typing import Annotated
 
 import typer
 from rich.console import Console
 
-from gaitgram.cli.output import human, plural, print_source_error
+from gaitgram.cli.output import human, plural, print_source_error, unified_diff
+from gaitgram.cli.stdout import write_bytes
 from gaitgram.fileio import OutputError, check_rewritable, write_output
 from gaitgram.language.formatter import FormatError, FormatRefused, format_text
-from gaitgram.language.source import SourceError, describe_os_error, read_source
+from gaitgram.language.source import SourceError, decode_source, describe_os_error, encode_as_read, read_bytes
 
 
 def command(
@@ -29,12 +29,12 @@ def command(
     Exit status: 0 done (or nothing to change), 1 with --check/--diff when a file would change or
     a file has syntax errors, 2 when a file cannot be read or written.
     """
-    out = Console(highlight=False, soft_wrap=True, markup=False)
     err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
     changed = unchanged = refused = failed = 0
     for path in files:
         try:
-            source = read_source(path)
+            data = read_bytes(path)
+            source = decode_source(data, str(path))
             formatted = format_text(source)
         except SourceError as error:
             failed += 1
@@ -52,21 +52,20 @@ def command(
             failed += 1
             err.print(f"error: {error}", style="bold red")
             continue
-        original = source.text  # as read: BOM dropped, newlines universal, like the formatter's input
-        if formatted == original:
+        # The formatter reads and writes universal newlines; the file keeps its own line breaks
+        # and byte order mark, so a CRLF file stays CRLF and the diff shows only the layout.
+        written = encode_as_read(data, formatted)
+        if written == data:
             unchanged += 1
             continue
         if diff:
-            lines = difflib.unified_diff(
-                original.splitlines(keepends=True), formatted.splitlines(keepends=True), f"{path}", f"{path}"
-            )
-            out.out("".join(lines), end="")
+            write_bytes(unified_diff(str(path), data, written))
         elif check:
             err.print(f"would reformat {path}")
         else:
             try:
                 check_rewritable(path)  # a regular file, not read-only
-                write_output(path, formatted)
+                write_output(path, written)
             except OutputError as error:
                 failed += 1
                 err.print(f"error: {error}", style="bold red")

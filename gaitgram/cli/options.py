@@ -41,9 +41,14 @@ def parse_defines(raw: list[str] | None) -> dict[str, int]:
         try:
             defines[key] = int(value)
         except ValueError:
-            raise typer.BadParameter(
-                f"{item!r}: {value!r} is not an integer", param_hint="--define"
-            ) from None
+            shown = f"{value[:12]}…" if len(value) > 15 else value
+            # int() refuses thousands of digits (more than any GE_RANGE size needs) as it does text
+            why = (
+                "the value is too large"
+                if value.strip().lstrip("+-").isdecimal()
+                else "the value is not an integer"
+            )
+            raise typer.BadParameter(f"{key}={shown}: {why}", param_hint="--define") from None
     return defines
 
 

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import difflib
+import os
+import re
 from typing import Any
 
 from rich.cells import cell_len
@@ -108,3 +111,19 @@ def print_source_error(console: Console, error: SourceError) -> None:
 
 def plural(count: int, word: str) -> str:
     return f"{count} {word}{'' if count == 1 else 's'}"
+
+
+_BYTE_LINE = re.compile(rb"[^\n]*\n|[^\n]+\Z")
+
+
+def unified_diff(name: str, before: bytes, after: bytes) -> bytes:
+    """The unified diff from ``before`` to ``after``, the bytes of file ``name``, as ``diff -u``
+    writes it: lines end at ``\n`` alone (a ``\r`` and tabs stay in their line), and a last line
+    without one is marked, so ``patch`` applied to the file makes ``after`` exactly."""
+    label = os.fsencode(name)
+    lines = difflib.diff_bytes(
+        difflib.unified_diff, _BYTE_LINE.findall(before), _BYTE_LINE.findall(after), label, label
+    )
+    return b"".join(
+        line if line.endswith(b"\n") else line + b"\n\\ No newline at end of file\n" for line in lines
+    )

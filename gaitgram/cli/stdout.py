@@ -49,6 +49,25 @@ class _GuardedOutput(io.TextIOWrapper):
             raise OutputFailed(error) from error
 
 
+def write_bytes(data: bytes) -> None:
+    """Write ``data`` to standard output as it is: machine output (a diff) whose tabs, ``\r``
+    and encoding a console or a text stream would change. Fails as :class:`OutputFailed`, as
+    writes through the guarded text stream do."""
+    stream = sys.stdout
+    stream.flush()  # what was printed before comes first
+    buffer = getattr(stream, "buffer", None)
+    if buffer is None:  # a text-only stream (a test runner's): the text, as exactly as it takes it
+        stream.write(data.decode("utf-8", "surrogateescape"))
+        return
+    try:
+        view = memoryview(data)
+        while view:  # unbuffered (PYTHONUNBUFFERED=1), the buffer is the raw file: writes may be partial
+            view = view[buffer.write(view) or 0 :]
+        buffer.flush()
+    except OSError as error:
+        raise OutputFailed(error) from error
+
+
 def run(main: Callable[[], object]) -> None:
     """Call ``main`` (which ends in SystemExit) with standard output guarded, and flush it
     while a failure can still be reported."""

@@ -16,6 +16,7 @@ grammar must keep under gaitgram:
 from __future__ import annotations
 
 import re
+import unicodedata
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import NamedTuple
@@ -527,8 +528,8 @@ class _Builder:
                 )
             )
             return None
-        if argument.isdigit():
-            size = int(argument)
+        if argument.isdecimal():  # the digits int() reads (any script's, not superscripts)
+            size = _size(argument)
         elif argument.isidentifier():
             defined = self.defines
             if argument not in defined:
@@ -555,10 +556,14 @@ class _Builder:
             )
             return None
         if size < 1 or size > MAX_RANGE_VALUES:
+            # A --define can be any int; str() of one with thousands of digits raises.
+            shown = (
+                f"has size {size}" if abs(size) < 10**15 else "is too large" if size > 0 else "is negative"
+            )
             self.problems.append(
                 diagnostic(
                     "GG105",
-                    f"{raw} has size {size}; it must be between 1 and {MAX_RANGE_VALUES:,}",
+                    f"{_shorten(raw)} {shown}; its size must be between 1 and {MAX_RANGE_VALUES:,}",
                     span,
                     rule=rule,
                 )
@@ -640,6 +645,14 @@ def _number(token: Token) -> int | float:
     value = read_number(str(token))
     whole = exact_int(value)
     return whole if whole is not None else float(value)
+
+
+def _size(digits: str) -> int:
+    """The value of decimal digits (any script's), or one more than a range may have if it is
+    larger: int() of thousands of digits raises rather than read them."""
+    first = next((i for i, digit in enumerate(digits) if unicodedata.decimal(digit)), len(digits))
+    significant = digits[first:] or "0"
+    return int(significant) if len(significant) <= len(str(MAX_RANGE_VALUES)) else MAX_RANGE_VALUES + 1
 
 
 def _shorten(text: str, limit: int = 40) -> str:

@@ -127,6 +127,14 @@ def _normal(value: Decimal) -> tuple[int, tuple[int, ...], int]:
     return sign, tuple(digits[start:end]), exponent + len(digits) - end
 
 
+def _compact(value: Decimal) -> Decimal:
+    """The same number without trailing zeros, built from its digits (no context, so nothing
+    rounds or traps): ``1.000…0`` with a thousand zeros is 1, ``0e-400`` is 0. Arithmetic on a
+    checked number's compact form stays within a few dozen digits, so it is exact."""
+    sign, digits, exponent = _normal(value)
+    return Decimal((sign, digits, exponent)) if digits else Decimal(0)
+
+
 def significant_digits(value: Decimal) -> int:
     """``0.0250`` has 2 (2 and 5); zero has none."""
     return len(_normal(value)[1])
@@ -284,9 +292,13 @@ def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProble
                 _at(text, token, "GG307", f"{token} in {text!r} {reason}", NUMBER_LIMITS, where=False)
             ]
 
+    # Checked, so each has at most 15 digits; compact, so calculations with them are exact
+    # and cheap (``1.000…0`` with a thousand zeros, or ``0e-400``, is written exactly but
+    # would round in a decimal context, or cost a thousand-digit fraction).
+    first, second = (_compact(read_number(str(token))) for token in numbers)
     center: Decimal | None = None
     if bounds.data == "interval":
-        low, high = read_number(str(numbers[0])), read_number(str(numbers[1]))
+        low, high = first, second
         if low > high:
             return None, [
                 RangeProblem(
@@ -302,11 +314,11 @@ def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProble
                 )
             ]
     else:
-        center, percent = read_number(str(numbers[0])), read_number(str(numbers[1]))
+        center, percent = first, second
         if percent < 0:
             return None, [_at(text, numbers[1], "GG302", "a relative range needs a non-negative percentage")]
         with localcontext() as context:
-            context.prec = 100  # exact: both numbers have at most 15 digits
+            context.prec = 100  # exact: both numbers are compact, with at most 15 digits
             context.traps[Inexact] = context.traps[Rounded] = True
             delta = center.copy_abs() * percent / 100
             low, high = center - delta, center + delta
@@ -327,7 +339,7 @@ def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProble
     count: int | None = None
     if option is not None:
         assert option_token is not None
-        value = read_number(str(option_token))
+        value = _compact(read_number(str(option_token)))
         if option.data == "step_option":
             if value <= 0:
                 return None, [
@@ -388,10 +400,9 @@ def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProble
 
     problems: list[RangeProblem] = []
     if count is not None:
-        decimals = max(
-            (written_decimals(read_number(str(numbers[0]))), decimal_places(low), decimal_places(high))
-            if center is not None
-            else (written_decimals(low), written_decimals(high))
+        written = [written_decimals(read_number(str(n))) for n in numbers]
+        decimals = (
+            max(written[0], decimal_places(low), decimal_places(high)) if center is not None else max(written)
         )
         values = _count_values(text, low, high, count, decimals, center is None, problems)
     else:

@@ -6,10 +6,13 @@ demand, so the parser does no position bookkeeping per token.
 
 from __future__ import annotations
 
+import codecs
+import difflib
 import os
 import re
 import stat
 from bisect import bisect_right
+from collections import Counter
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,6 +28,7 @@ __all__ = [
     "Span",
     "decode_source",
     "describe_os_error",
+    "encode_as_read",
     "normalize_newlines",
     "read_bytes",
     "read_limited",
@@ -279,3 +283,36 @@ def decode_source(data: bytes, name: str = "<bytes>") -> SourceText:
         line = text.count("\n", 0, text.index("\x00")) + 1
         raise SourceError(name, f"line {line}: contains a NUL byte; this looks like a binary file")
     return SourceText(text, name)
+
+
+_RAW_LINE = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+$")
+_LINE = re.compile(r"[^\n]*\n|[^\n]+$")
+_NEWLINE = re.compile(r"\r\n|\r|\n")
+
+
+def encode_as_read(read: bytes, text: str) -> bytes:
+    """``text``, a new version of what :func:`decode_source` made of ``read``, as bytes laid out
+    like ``read``: its byte order mark, and the line breaks of the lines that did not change
+    (a new or changed line gets the file's most common line break). What ``check --fix`` and
+    ``fmt`` write, so a CRLF file stays CRLF and its diff shows only what changed."""
+    bom = codecs.BOM_UTF8 if read.startswith(codecs.BOM_UTF8) else b""
+    raw = read[len(bom) :].decode("utf-8")
+    if "\r" not in raw:
+        return bom + text.encode("utf-8")
+    newline = Counter(_NEWLINE.findall(raw)).most_common(1)[0][0]
+    # Normalising newlines maps each line break to one "\n", so the lines correspond one to one.
+    raw_lines, old_lines, new_lines = (
+        _RAW_LINE.findall(raw),
+        _LINE.findall(normalize_newlines(raw)),
+        _LINE.findall(text),
+    )
+    parts: list[str] = []
+    matcher = difflib.SequenceMatcher(None, old_lines, new_lines, autojunk=False)
+    for tag, i1, i2, j1, j2 in matcher.get_opcodes():
+        for line in (
+            raw_lines[i1:i2] if tag == "equal" else (x.replace("\n", newline) for x in new_lines[j1:j2])
+        ):
+            if line.startswith("\n") and parts and parts[-1].endswith("\r"):
+                parts[-1] += "\n"  # a lone CR then an LF would read as one CRLF break, not two
+            parts.append(line)
+    return bom + "".join(parts).encode("utf-8")

@@ -13,16 +13,24 @@ import json
 import logging
 import sys
 import threading
+from functools import cache
 from typing import BinaryIO
 
+import attrs
 import cattrs
 from cattrs.errors import ClassValidationError
 from lsprotocol import types
 from pygls.capabilities import get_capability
-from pygls.exceptions import JsonRpcContentModified, JsonRpcInvalidParams
+from pygls.exceptions import (
+    JsonRpcContentModified,
+    JsonRpcInvalidParams,
+    JsonRpcInvalidRequest,
+    JsonRpcServerNotInitialized,
+)
 from pygls.io_ import StdinAsyncReader, StdoutWriter, run_async
 from pygls.lsp.server import LanguageServer
-from pygls.protocol import JsonRPCNotification, LanguageServerProtocol, default_converter
+from pygls.protocol import JsonRPCNotification, JsonRPCProtocol, LanguageServerProtocol, default_converter
+from pygls.protocol.json_rpc import RPCMessage, RPCNotification, RPCRequest
 from pygls.protocol.language_server import lsp_method
 
 from gaitgram import __version__
@@ -65,19 +73,106 @@ def _leaves(error: BaseException) -> list[str]:
     return [str(error)]
 
 
+#: What :meth:`GaitgramProtocol.structure_message` gives for a message it answered itself.
+_ANSWERED = JsonRPCNotification(method="$/gaitgram/answered", jsonrpc="2.0", params=None)
+
+
+@cache
+def _is_notification(method: str) -> bool:
+    """Whether LSP defines ``method`` as a notification (a message without an id)."""
+    message_type = types.METHOD_TO_TYPES.get(method, (None,))[0]
+    return message_type is not None and "id" not in attrs.fields_dict(message_type)
+
+
+def _invalid_request(data: dict) -> str | None:
+    """Why a message with an id is not a request or a response the server can take, or None.
+
+    pygls reads such messages as notifications (or drops them) and never answers, so the client
+    waits forever for the answer to its id."""
+    if data.get("jsonrpc") != JsonRPCProtocol.VERSION:
+        return f'"jsonrpc" must be "2.0", not {json.dumps(data.get("jsonrpc"))}'
+    if not _is_id(data["id"]):
+        return f"the id must be a number or a string, not {json.dumps(data['id'])}"
+    if "method" not in data:
+        if "result" in data or "error" in data:
+            return None  # a response to a request of the server's
+        return "a message with an id needs a method (a request), or a result or an error (a response)"
+    method = data["method"]
+    if not isinstance(method, str):
+        return f"the method must be a string, not {json.dumps(method)}"
+    if _is_notification(method):
+        return f"{method} is a notification, which is sent without an id"
+    return None
+
+
+def _is_id(value: object) -> bool:
+    return isinstance(value, int | str) and not isinstance(value, bool)
+
+
 class GaitgramProtocol(LanguageServerProtocol):
+    """pygls's protocol, answering every request as JSON-RPC and the LSP specification say:
+    invalid ones and those after ``shutdown`` with an error, never with silence."""
+
     def structure_message(self, data: dict):  # type: ignore[no-untyped-def]  # pygls's signature
-        """As pygls's, but a request whose parameters do not read gets its InvalidParams answer
-        (pygls logs it and never answers, so the client waits forever)."""
+        """As pygls's, but a message with an id that is not a valid request gets InvalidRequest,
+        and a request whose parameters do not read gets InvalidParams (pygls logs both and
+        never answers, so the client waits forever). Called for every JSON object of a
+        message; only a whole message has ``jsonrpc``."""
+        if "id" in data and "jsonrpc" in data and (reason := _invalid_request(data)) is not None:
+            self._refuse(data["id"], JsonRpcInvalidRequest.CODE, f"invalid request: {reason}")
+            return _ANSWERED
         try:
             return super().structure_message(data)
         except JsonRpcInvalidParams as error:
             if not ("id" in data and "method" in data):
                 raise
             reason = "; ".join(_leaves(error.__cause__ or error))
-            message = f"invalid params for {data['method']}: {reason}"
-            self._send_response(data["id"], error=types.ResponseError(code=error.code, message=message))
-            return JsonRPCNotification(method="$/gaitgram/answered", jsonrpc="2.0", params=None)
+            self._refuse(data["id"], error.code, f"invalid params for {data['method']}: {reason}")
+            return _ANSWERED
+
+    #: Whether ``initialize`` was received (the specification: once, and before anything else).
+    initialize_received = False
+
+    def handle_message(self, message: RPCMessage) -> None:
+        """As pygls's, but the requests the specification refuses get their errors: before
+        ``initialize`` ServerNotInitialized, a second ``initialize`` and any request after
+        ``shutdown`` (another ``shutdown`` too) InvalidRequest. pygls drops some unanswered,
+        and serves others before the server is set up. Notifications before ``initialize``
+        are dropped, as the specification says, but for ``exit``."""
+        if message is _ANSWERED:
+            return
+        if isinstance(message, dict):  # no "jsonrpc", so structure_message left it a plain object
+            if "id" in message:
+                reason = 'invalid request: a message needs "jsonrpc": "2.0"'
+                self._refuse(message["id"], JsonRpcInvalidRequest.CODE, reason)
+            return
+        if isinstance(message, RPCRequest):
+            method = message.method
+            if self._shutdown:
+                reason = f"the server is shut down: it takes only the exit notification now, not {method}"
+                self._refuse(message.id, JsonRpcInvalidRequest.CODE, reason)
+                return
+            if method == types.INITIALIZE:
+                if self.initialize_received:
+                    self._refuse(message.id, JsonRpcInvalidRequest.CODE, "initialize may be sent only once")
+                    return
+                self.initialize_received = True
+            elif not self.initialize_received:
+                reason = f"the server is not initialized: send initialize before {method}"
+                self._refuse(message.id, JsonRpcServerNotInitialized.CODE, reason)
+                return
+        elif (
+            isinstance(message, RPCNotification)
+            and not self.initialize_received
+            and message.method != types.EXIT
+        ):
+            return
+        super().handle_message(message)
+
+    def _refuse(self, msg_id: object, code: int, message: str) -> None:
+        """Answer ``msg_id`` with an error (JSON-RPC answers an id it cannot read with null)."""
+        answered = msg_id if _is_id(msg_id) else None  # pygls's converter would leave out a null id
+        self._send_data({"jsonrpc": "2.0", "id": answered, "error": {"code": code, "message": message}})
 
     @lsp_method(types.TEXT_DOCUMENT_DID_CHANGE)
     def lsp_text_document__did_change(self, params: types.DidChangeTextDocumentParams):
@@ -113,6 +208,9 @@ class GaitgramServer(LanguageServer):
         self.completion_client = completion.Client()
         self.markdown = True
         self.hierarchical_symbols = True
+        #: The process's exit status: the LSP's for the exit notification (0 after shutdown,
+        #: else 1), 0 if the client closed the connection.
+        self.exit_status = 0
 
     def _start_io_async(self, stdin: BinaryIO | None = None, stdout: BinaryIO | None = None) -> None:
         """As pygls's, but stdin is read on the event loop as an asyncio pipe. pygls reads every
@@ -144,7 +242,9 @@ class GaitgramServer(LanguageServer):
             asyncio.run(serve())
         except BrokenPipeError:
             logger.error("Connection to the client is lost! Shutting down the server.")
-        except (KeyboardInterrupt, SystemExit):
+        except SystemExit as stop:  # pygls's exit handler: its status is the process's
+            self.exit_status = 0 if stop.code is None else stop.code if isinstance(stop.code, int) else 1
+        except KeyboardInterrupt:
             pass
         finally:
             self.shutdown()
@@ -406,3 +506,4 @@ def main(argv: list[str] | None = None) -> None:
         server.start_tcp(host or "127.0.0.1", int(port))
     else:
         server.start_io()
+        sys.exit(server.exit_status)

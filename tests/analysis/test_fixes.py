@@ -207,6 +207,9 @@ PIECES = [
     "@joint hip_hind\n",
     "@jont x\n",
     "@frequency\n",
+    "<amp> ::= ",
+    "'open |",
+    " # c\n",
 ]
 texts = st.lists(st.sampled_from(PIECES), max_size=30).map("".join)
 
@@ -239,6 +242,46 @@ def test_check_fix_never_makes_a_text_worse_and_leaves_clean_ones_alone(text: st
     if not before.diagnostics or not outcome.applied:
         assert outcome.text == before.grammar.source.text
         assert not outcome.changed
+
+
+#: Whole rules, often defined twice, with unterminated strings, comments and fixable ranges:
+#: fixes that wait for one another.
+rule_lines = st.builds(
+    lambda head, alternatives, bar, comment: f"{head} ::= {bar.join(alternatives)}{comment}\n",
+    st.sampled_from(["<a>", "<b>", "<amp>", "<bee>"]),
+    st.lists(
+        st.sampled_from(
+            [
+                *["x", "1", "'open ", "'q'", "<a>", "<b>", "<amp>", "<be>", "", "\\x4"],
+                *["int[5..1]", "flaot[0..1 step 0.5]", "float[0..1 step 0.3]"],
+            ]
+        ),
+        min_size=1,
+        max_size=4,
+    ),
+    st.sampled_from([" | ", " |", "|", "\t|\t"]),
+    st.sampled_from(["", " # c", "\t# c"]),
+)
+rules = st.lists(rule_lines, min_size=1, max_size=6).map("".join)
+
+
+@settings(max_examples=800, deadline=None)
+@given(rules, st.booleans())
+def test_fixing_reaches_a_fixed_point_so_fixing_again_changes_nothing(text: str, unsafe: bool) -> None:
+    once = fix_source(SourceText(text), unsafe=unsafe)
+    again = fix_source(SourceText(once.text), unsafe=unsafe)
+    assert again.applied == (), (once.text, [a.title for a in again.applied])
+    assert again.text == once.text
+    assert once.converged
+
+
+def test_a_fix_refused_in_one_text_is_tried_again_once_others_changed_it() -> None:
+    # The merge of the two <amp> rules would move the unterminated string; once it is closed,
+    # the merge adds no error.
+    outcome = fix_source(SourceText("<amp> ::= x # c\n<amp> ::= 1 |'open |2\n<legs> ::= y\n"), unsafe=True)
+    assert outcome.text == "<amp> ::= x | 1 |'open |2' # c\n"
+    assert [a.code.code for a in outcome.applied] == ["GG204", "GG102", "GG202"]
+    assert outcome.converged
 
 
 def test_a_misspelt_backend_gets_the_nearest_name_as_hint() -> None:

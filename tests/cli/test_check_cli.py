@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -90,6 +91,18 @@ def test_defines(tmp_path: Path) -> None:
     assert runner.invoke(app, ["check", "-D", "n_vars=3", str(path)]).exit_code == 0
 
 
+def test_a_define_of_thousands_of_digits_is_too_large_in_a_short_message(tmp_path: Path) -> None:
+    path = tmp_path / "d.gg"
+    path.write_text("<a> ::= GE_RANGE:n\n")
+    result = runner.invoke(app, ["check", "-D", f"n={'9' * 5000}", str(path)])
+    assert result.exit_code == 2
+    assert "n=999999999999…: the value is too large" in result.output
+    assert len(result.output) < 400
+    large = runner.invoke(app, ["check", "-D", f"n={'9' * 40}", str(path)])  # int() reads it
+    assert large.exit_code == 1
+    assert "GE_RANGE:n is too large; its size must be between 1 and 100,000" in large.output
+
+
 def test_bundled_grammars_pass_strict() -> None:
     paths = sorted(str(p) for p in GRAMMARS.glob("*.gg"))
     assert paths
@@ -109,6 +122,39 @@ def test_fmt_in_place_check_and_diff(tmp_path: Path) -> None:
     assert path.read_text() == "<a> ::= x | y\n<b> ::= z\n"
     assert runner.invoke(app, ["fmt", "--check", str(path)]).exit_code == 0
     assert [p.name for p in tmp_path.iterdir()] == ["f.gg"]  # no temporary file left behind
+
+
+def test_fmt_keeps_line_breaks_and_byte_order_mark_and_its_diff_is_exact(tmp_path: Path) -> None:
+    """The diff is of the file's bytes (tabs, CRLF, no newline at the end), as fmt writes them,
+    so patch makes what fmt writes; a CRLF file stays CRLF."""
+    raw = b"\xef\xbb\xbf<a>\t::=x|'\ty'\r\n# keep\tme\r\n<b> ::= z  # c"
+    (tmp_path / "f.gg").write_bytes(raw)
+    env = {**os.environ, "NO_COLOR": "1"}
+    diff = subprocess.run(
+        [sys.executable, "-m", "gaitgram", "fmt", "--diff", "f.gg"],
+        capture_output=True,
+        env=env,
+        cwd=tmp_path,
+    )
+    assert diff.returncode == 1, diff.stderr
+    assert diff.stdout == (
+        b"--- f.gg\n+++ f.gg\n@@ -1,3 +1,3 @@\n"
+        b"-\xef\xbb\xbf<a>\t::=x|'\ty'\r\n+\xef\xbb\xbf<a> ::= x | '\ty'\r\n # keep\tme\r\n"
+        b"-<b> ::= z  # c\n\\ No newline at end of file\n+<b> ::= z  # c\r\n"
+    )
+    assert (tmp_path / "f.gg").read_bytes() == raw
+    assert runner.invoke(app, ["fmt", str(tmp_path / "f.gg")]).exit_code == 0
+    formatted = (tmp_path / "f.gg").read_bytes()
+    assert formatted == b"\xef\xbb\xbf<a> ::= x | '\ty'\r\n# keep\tme\r\n<b> ::= z  # c\r\n"
+    assert runner.invoke(app, ["fmt", "--check", str(tmp_path / "f.gg")]).exit_code == 0
+    if shutil.which("patch") is None:
+        pytest.skip("needs patch (Debian's patch package; .ci/run installs it) to apply the diff")
+    (tmp_path / "f.gg").write_bytes(raw)
+    applied = subprocess.run(
+        ["patch", "--fuzz=0", "f.gg"], input=diff.stdout, capture_output=True, cwd=tmp_path
+    )
+    assert applied.returncode == 0, applied.stdout + applied.stderr
+    assert (tmp_path / "f.gg").read_bytes() == formatted
 
 
 def test_fmt_leaves_files_with_syntax_errors_alone(tmp_path: Path) -> None:

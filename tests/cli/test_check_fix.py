@@ -6,12 +6,15 @@ import errno
 import json
 import os
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
 
 from conftest import GRAMMARS
+from gaitgram.analysis import fixes
 from gaitgram.cli import app
 from gaitgram.cli import check as check_cli
 
@@ -90,6 +93,75 @@ def test_line_breaks_and_byte_order_mark_are_kept(tmp_path: Path) -> None:
     path.write_bytes(b"\xef\xbb\xbf<a> ::= x | | y\r\n# keep me\r\n<b> ::= 'z\r\n<c> ::= w\n")
     runner.invoke(app, ["check", "--fix", str(path)])
     assert path.read_bytes() == b"\xef\xbb\xbf<a> ::= x | y\r\n# keep me\r\n<b> ::= 'z'\r\n<c> ::= w\n"
+
+
+def gaitgram(*args: str, cwd: Path) -> subprocess.CompletedProcess[bytes]:
+    """The command as a user runs it: standard output as the bytes it wrote."""
+    env = {**os.environ, "NO_COLOR": "1"}
+    return subprocess.run([sys.executable, "-m", "gaitgram", *args], capture_output=True, env=env, cwd=cwd)
+
+
+#: Tabs, CRLF line breaks, a byte order mark and no newline at the end: all must survive a diff.
+RAW = b"\xef\xbb\xbf<a> ::= x\t| | y\r\n# keep\tme\r\n<b> ::= 'z\r\n<c>\t::= w"
+
+
+def test_diff_is_the_exact_bytes_so_patch_makes_what_fix_writes(tmp_path: Path) -> None:
+    (tmp_path / "raw.gg").write_bytes(RAW)
+    (tmp_path / "fixed.gg").write_bytes(RAW)
+    diff = gaitgram("check", "--diff", "raw.gg", cwd=tmp_path)
+    assert diff.returncode == 1, diff.stderr
+    assert b"-\xef\xbb\xbf<a> ::= x\t| | y\r\n+\xef\xbb\xbf<a> ::= x\t| y\r\n" in diff.stdout
+    assert b" # keep\tme\r\n-<b> ::= 'z\r\n+<b> ::= 'z'\r\n" in diff.stdout
+    assert (tmp_path / "raw.gg").read_bytes() == RAW
+    assert gaitgram("check", "--fix", "fixed.gg", cwd=tmp_path).returncode == 0
+    fixed = (tmp_path / "fixed.gg").read_bytes()
+    assert fixed == b"\xef\xbb\xbf<a> ::= x\t| y\r\n# keep\tme\r\n<b> ::= 'z'\r\n<c>\t::= w"
+    if shutil.which("patch") is None:
+        pytest.skip("needs patch (Debian's patch package; .ci/run installs it) to apply the diff")
+    applied = subprocess.run(
+        ["patch", "--fuzz=0", "raw.gg"], input=diff.stdout, capture_output=True, cwd=tmp_path
+    )
+    assert applied.returncode == 0, applied.stdout + applied.stderr
+    assert (tmp_path / "raw.gg").read_bytes() == fixed
+
+
+def test_a_blank_line_after_a_fixed_line_is_kept_in_a_file_of_cr_line_breaks(tmp_path: Path) -> None:
+    """The fixed line gets the file's most common line break, CR; before the blank line's LF it
+    would read as one CRLF break, and the blank line would be gone."""
+    path = tmp_path / "cr.gg"
+    path.write_bytes(b"# a\r# b\r# c\r<a> ::= p | | q\n\n<b> ::= r\r")
+    runner.invoke(app, ["check", "--fix", str(path)])
+    assert path.read_bytes() == b"# a\r# b\r# c\r<a> ::= p | q\r\n\n<b> ::= r\r"
+
+
+def test_a_second_fix_changes_nothing(tmp_path: Path) -> None:
+    """Closing the string makes the merge of the two <amp> rules possible: the first run does
+    both, where it used to leave the merge for a second run."""
+    path = tmp_path / "amp.gg"
+    path.write_text("<amp> ::= x # c\n<amp> ::= 1 |'open |2\n<legs> ::= y\n")
+    first = gaitgram("check", "--fix", "--unsafe-fixes", "amp.gg", cwd=tmp_path)
+    assert first.returncode == 0, first.stdout + first.stderr
+    once = path.read_bytes()
+    assert once == b"<amp> ::= x | 1 |'open |2' # c\n"
+    assert b"GG202 Merge its alternatives into the first <amp>" in first.stderr
+    second = gaitgram("check", "--fix", "--unsafe-fixes", "amp.gg", cwd=tmp_path)
+    assert second.returncode == 0
+    assert b"nothing to fix" in second.stderr
+    assert path.read_bytes() == once
+
+
+def test_fixes_that_do_not_settle_say_so(fixable: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(fixes, "MAX_PASSES", 1)  # FIXABLE takes two rounds with --unsafe-fixes
+    result = runner.invoke(app, ["check", "--fix", "--unsafe-fixes", str(fixable)])
+    assert (
+        f"warning: {fixable}: the fixes did not settle after 1 round, each making more to fix"
+        in result.stderr
+    )
+    assert "run the command again for the rest" in result.stderr
+    monkeypatch.undo()
+    again = runner.invoke(app, ["check", "--fix", "--unsafe-fixes", str(fixable)])
+    assert "did not settle" not in again.stderr
+    assert fixable.read_text() == "<a> ::= x | y | float[0..1 step 0.5] | <beef>\n<beef> ::= z\n"
 
 
 def test_json_lists_the_fixes_and_the_remaining_problems(fixable: Path) -> None:

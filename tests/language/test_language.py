@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from gaitgram.analysis import check
 from gaitgram.language import parse
 from gaitgram.language.model import NonTerminal, RangeSymbol, Terminal
-from gaitgram.language.source import Span
+from gaitgram.language.source import Span, decode_source, encode_as_read, normalize_newlines
 
 
 def codes(text: str) -> list[str]:
@@ -161,6 +163,40 @@ def test_crlf_and_cr_line_endings_read_like_lf() -> None:
         assert [(r.name, [a.symbols[0].text for a in r.alternatives]) for r in other.rules] == [
             (r.name, [a.symbols[0].text for a in r.alternatives]) for r in lf.rules
         ]
+
+
+@st.composite
+def files_and_edits(draw: st.DrawFn) -> tuple[bytes, str]:
+    """A file's bytes (lines ending LF, CRLF or CR, each its own, maybe a byte order mark) and
+    a new version of its text: lines deleted, inserted (blank ones too) and changed."""
+    lines = draw(st.lists(st.sampled_from(["", "<a> ::= x", "# c", "  | y\t"]), max_size=8))
+    breaks = draw(st.lists(st.sampled_from(["\n", "\r\n", "\r"]), min_size=len(lines), max_size=len(lines)))
+    raw = "".join(line + end for line, end in zip(lines, breaks, strict=True))
+    if raw and draw(st.booleans()):
+        raw = raw.rstrip("\r\n")  # no line break at the end
+    bom = b"\xef\xbb\xbf" if draw(st.booleans()) else b""
+    new = [line + "\n" for line in normalize_newlines(raw).split("\n")]
+    for _ in range(draw(st.integers(0, 4))):
+        at = draw(st.integers(0, len(new)))
+        edit = draw(st.sampled_from(["delete", "insert", "change"]))
+        if edit == "insert" or at == len(new):
+            new.insert(at, draw(st.sampled_from(["\n", "<b> ::= z\n", "\t# new\n"])))
+        elif edit == "delete":
+            del new[at]
+        else:
+            new[at] = "<c> ::= w\n"
+    return bom + raw.encode(), "".join(new)
+
+
+@given(files_and_edits())
+def test_a_new_text_is_written_with_the_files_line_breaks_and_reads_back_as_that_text(
+    case: tuple[bytes, str],
+) -> None:
+    read, new = case
+    written = encode_as_read(read, new)
+    assert written.startswith(b"\xef\xbb\xbf") == read.startswith(b"\xef\xbb\xbf")
+    assert decode_source(written).text == new  # a lone CR before an LF would merge two breaks
+    assert encode_as_read(read, decode_source(read).text) == read  # no change, the same bytes
 
 
 def test_defines_give_ge_range_its_size() -> None:

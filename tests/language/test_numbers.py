@@ -225,6 +225,39 @@ def test_check_reports_numbers_and_escapes_on_a_file(tmp_path: Path) -> None:
     assert "numbers.gg:3:11: error[GG103]" in out
 
 
+#: Numbers as a user may write them, each meaning a checked number (so the range reads), but
+#: spelt so that arithmetic in a decimal context would round, or int() would refuse.
+PADDED = "1." + "0" * 150
+
+
+@pytest.mark.parametrize(
+    ("text", "status", "expected"),
+    [
+        ("<a> ::= int[1 ± 0e-400%]\n", 0, None),  # 0 % of 1: the range of one value
+        (f"<a> ::= float[{PADDED} ± 5% count 3]\n", 0, None),
+        (f"<a> ::= float[2 ± {PADDED}e1% step 0.1]\n", 0, None),
+        (f"<a> ::= float[0e-999999999..{PADDED} count 3]\n", 0, None),
+        ("<a> ::= float[0..1 step 0." + "0" * 150 + "1]\n", 1, ":1:25: error[GG307]"),
+        ("<a> ::= GE_RANGE:" + "9" * 5000 + "\n", 1, ":1:9: error[GG105] GE_RANGE:9"),
+        ("<a> ::= GE_RANGE:" + "0" * 5000 + "7\n", 0, None),
+        ("<a> ::= GE_RANGE:\u00b2\n", 1, ":1:9: error[GG105] GE_RANGE:\u00b2: the size must be a number"),
+        ("<a> ::= int[1..1e999999999999999999999999]\n", 1, ":1:16: error[GG307]"),
+        ("<a> ::= float[0..1 count 1e999999999]\n", 1, ":1:9: error[GG304]"),
+    ],
+)
+def test_check_reads_extreme_numerals_in_a_file_as_diagnostics_never_a_traceback(
+    tmp_path: Path, text: str, status: int, expected: str | None
+) -> None:
+    (tmp_path / "extreme.gg").write_text(text, encoding="utf-8")
+    run = gaitgram("check", "extreme.gg", cwd=tmp_path)
+    assert "Traceback" not in run.stderr, run.stderr
+    assert run.returncode == status, run.stdout + run.stderr
+    if expected is None:
+        assert "1 file OK" in run.stderr
+    else:
+        assert f"extreme.gg{expected}" in run.stdout
+
+
 def test_map_refuses_a_surrogate_instead_of_crashing_and_reads_exponents(tmp_path: Path) -> None:
     (tmp_path / "surrogate.gg").write_text('<a> ::= x"\\ud800"y | b\n', encoding="utf-8")
     run = gaitgram("map", "surrogate.gg", "--genome", "0", cwd=tmp_path)

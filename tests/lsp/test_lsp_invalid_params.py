@@ -4,67 +4,21 @@ raw JSON-RPC on the server's stdio, since a typed client cannot even send them."
 from __future__ import annotations
 
 import json
-import os
-import select
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
 
+from rawrpc import DOCUMENT, RawServer
+
 INVALID_PARAMS = -32602
-DOCUMENT = {"uri": "file:///x.gg", "languageId": "gaitgram", "version": 1, "text": "<a> ::= <b>\n<b> ::= x\n"}
-
-
-class RawServer:
-    def __init__(self) -> None:
-        self.process = subprocess.Popen(
-            [sys.executable, "-m", "gaitgram_lsp"],
-            stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.DEVNULL,
-        )
-        self.buffer = b""
-
-    def send(self, message: dict) -> None:
-        body = json.dumps({"jsonrpc": "2.0", **message}).encode()
-        assert self.process.stdin is not None
-        self.process.stdin.write(b"Content-Length: %d\r\n\r\n" % len(body) + body)
-        self.process.stdin.flush()
-
-    def answers(self, ids: set[int], timeout: float = 30.0) -> dict[int, dict]:
-        found: dict[int, dict] = {}
-        deadline = time.monotonic() + timeout
-        assert self.process.stdout is not None
-        descriptor = self.process.stdout.fileno()
-        while not ids <= set(found) and time.monotonic() < deadline:
-            if select.select([descriptor], [], [], 0.1)[0]:
-                self.buffer += os.read(descriptor, 65536)
-            while b"\r\n\r\n" in self.buffer:
-                head, rest = self.buffer.split(b"\r\n\r\n", 1)
-                length = next(int(line.split(b":")[1]) for line in head.split(b"\r\n") if b"Length" in line)
-                if len(rest) < length:
-                    break
-                message, self.buffer = json.loads(rest[:length]), rest[length:]
-                if message.get("id") in ids:
-                    found[message["id"]] = message
-        return found
-
-    def close(self) -> None:
-        self.process.kill()
-        self.process.wait()
 
 
 @pytest.fixture
 def server():
     raw = RawServer()
-    raw.send(
-        {"id": 0, "method": "initialize", "params": {"processId": None, "rootUri": None, "capabilities": {}}}
-    )
-    assert raw.answers({0})
-    raw.send({"method": "initialized", "params": {}})
-    raw.send({"method": "textDocument/didOpen", "params": {"textDocument": DOCUMENT}})
+    raw.initialize()
     yield raw
     raw.close()
 

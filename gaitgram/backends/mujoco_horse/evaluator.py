@@ -291,8 +291,8 @@ class HorseEvaluator:
         target's by default), and the weight between them, for at least ``last`` steps."""
         frequency = self.targets.stride_frequency if frequency is None else frequency
         cached = self._lookups.get((samples, frequency))
-        if cached is None or len(cached[0]) < last:
-            steps = max(last, self.nstep)
+        if cached is None or len(cached[0]) < last:  # grown by doubling: a check's chunks reach far
+            steps = max(last, self.nstep, 2 * len(cached[0]) if cached is not None else 0)
             time = np.arange(steps) * self.dt
             phase = np.mod(time[:, None] * frequency - self._offsets[None, :], 1.0)
             position = phase * samples  # [steps, nu], in samples
