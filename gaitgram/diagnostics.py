@@ -15,11 +15,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from enum import StrEnum
-from typing import TYPE_CHECKING
 
-if TYPE_CHECKING:  # a runtime import would be circular: the language package reports diagnostics
-    from gaitgram.language.source import Span
-
+from gaitgram.spans import Span
 
 __all__ = [
     "CODES",

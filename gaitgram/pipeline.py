@@ -15,8 +15,9 @@ same pipeline again (:mod:`gaitgram.evolution.rundir`).
 Building refuses, with a message that names the key and the fix, anything that
 would make the numbers mean something other than what they say: a grammar with
 errors, backend settings the backend does not know, a weight that no component
-has, depths the grammar cannot fit in, codons too small to reach every choice,
-a search strategy that cannot search this grammar or does not know a setting.
+has, depths the grammar cannot fit in, codons too small to reach every choice.
+The pipeline knows no search strategy and no run: a run's strategy is checked
+against it one floor up (:func:`gaitgram.strategies.registry.run_pipeline`).
 Evaluating checks what comes back: a gait is only ``ok`` if its fitness and
 every component are finite.
 """
@@ -43,15 +44,12 @@ from gaitgram.backends.registry import (
     BackendLoadError,
     BackendNotFound,
     BackendSpec,
-    backend_names,
     get_backend,
 )
 from gaitgram.evolution.config import RunConfig
 from gaitgram.ge.mapper import Mapped, Mapper, MapperError, compile_mapper
 from gaitgram.language.model import Grammar
 from gaitgram.motion.gait import MotionBatch, motion_batch
-from gaitgram.strategies.api import StrategyError
-from gaitgram.strategies.registry import StrategyLoadError, StrategyNotFound, get_strategy, strategy_names
 
 #: The backend of a grammar that names none and a config that names none.
 DEFAULT_BACKEND = "mujoco-horse"
@@ -123,7 +121,7 @@ class Pipeline:
         joints = (
             spec.catalogue.names if spec.catalogue is not None else tuple(j.joint for j in grammar.joints)
         )
-        return _with_strategy(cls(checked, config, spec, mapper, joints))
+        return cls(checked, config, spec, mapper, joints)
 
     @property
     def grammar(self) -> Grammar:
@@ -147,6 +145,13 @@ class Pipeline:
     def weights_at(self, generation: int) -> Mapping[str, float] | None:
         """The fitness weights in force in ``generation``; None: the backend's own."""
         return self.config.weights_at(generation) or None
+
+    def scores_change(self, generation: int) -> bool:
+        """Whether the same gait scores differently in ``generation`` than in the one before (a joint
+        came free or the weights moved), so that individuals carried over must be scored again."""
+        return self.frozen_at(generation) != self.frozen_at(generation - 1) or self.weights_at(
+            generation
+        ) != self.weights_at(generation - 1)
 
     def map(self, genomes: Sequence[Sequence[int]]) -> list[Mapped]:
         return self.mapper.map_many(genomes)
@@ -260,35 +265,10 @@ def _first_error(checked: CheckResult) -> str:
 def _spec(name: str) -> BackendSpec:
     try:
         return get_backend(name)
-    except BackendNotFound:
-        raise PipelineError(f"no backend named {name!r}; installed: {', '.join(backend_names())}") from None
+    except BackendNotFound as error:
+        raise PipelineError(str(error)) from None
     except BackendLoadError as error:
         raise PipelineError(str(error)) from None
-
-
-def _with_strategy(pipeline: Pipeline) -> Pipeline:
-    """The pipeline with its strategy's settings checked and normalised, if the strategy can search
-    this grammar and configuration at all."""
-    name = pipeline.config.strategy
-    try:
-        strategy = get_strategy(name)
-    except StrategyNotFound:
-        close = difflib.get_close_matches(name, strategy_names(), n=1)
-        hint = f"did you mean {close[0]}? " if close else ""
-        raise PipelineError(
-            f"strategy: no strategy named {name!r}; {hint}installed: {', '.join(strategy_names())}"
-        ) from None
-    except StrategyLoadError as error:
-        raise PipelineError(str(error)) from None
-    if strategy.check is None:
-        return pipeline
-    try:
-        settings = dict(strategy.check(pipeline))
-    except SettingsError as error:
-        raise PipelineError(f"[strategy_settings] {error.key}: {error.message}") from None
-    except StrategyError as error:
-        raise PipelineError(str(error)) from None
-    return replace(pipeline, config=replace(pipeline.config, strategy_settings=settings))
 
 
 def _check_weights(config: RunConfig, spec: BackendSpec) -> None:

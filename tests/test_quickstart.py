@@ -12,7 +12,7 @@ import pytest
 from typer.testing import CliRunner
 
 from gaitgram.cli import app
-from gaitgram.evolution.engine import load_checkpoint
+from gaitgram.evolution.checkpoint import load_checkpoint
 from gaitgram.evolution.rundir import RunDirectory
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -1,4 +1,5 @@
-"""Finding fitness backends: the ``gaitgram.backends`` entry-point group.
+"""Fitness backends: what a backend declares (:class:`BackendSpec`), found in the
+``gaitgram.backends`` entry-point group (:mod:`gaitgram.plugins`).
 
 A package makes a backend available by declaring, in its ``pyproject.toml``::
 
@@ -13,12 +14,11 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from functools import cache
-from importlib.metadata import entry_points
 from typing import Any
 
 from gaitgram.backends.api import SettingsError, Verdict
 from gaitgram.backends.catalogue import JointCatalogue
+from gaitgram.plugins import PluginLoadError, PluginNotFound, Registry
 
 __all__ = [
     "ENTRY_POINT_GROUP",
@@ -105,45 +105,40 @@ class BackendSpec:
             raise SettingsError("backend_settings", str(error)) from None
 
 
-class BackendNotFound(LookupError):
-    def __init__(self, name: str) -> None:
-        super().__init__(name)
-        self.name = name
-
-
-class BackendLoadError(RuntimeError):
+class BackendNotFound(PluginNotFound):
     pass
 
 
-@cache
-def _entry_points() -> dict[str, Any]:
-    return {ep.name: ep for ep in entry_points(group=ENTRY_POINT_GROUP)}
+class BackendLoadError(PluginLoadError):
+    pass
+
+
+#: The backends gaitgram ships (also declared as entry points in its pyproject.toml).
+BUILTIN = {
+    "curve-match": "gaitgram.backends.curve_match:BACKEND",
+    "mujoco-horse": "gaitgram.backends.mujoco_horse:BACKEND",
+}
+
+REGISTRY: Registry[BackendSpec] = Registry(
+    ENTRY_POINT_GROUP,
+    "backend",
+    BackendSpec,
+    BUILTIN,
+    not_found=BackendNotFound,
+    load_error=BackendLoadError,
+)
 
 
 def backend_names() -> tuple[str, ...]:
-    return tuple(sorted(_entry_points()))
+    return REGISTRY.names()
 
 
 def backend_version(name: str) -> str:
     """What a run records of its backend: the providing package's release and the spec's version."""
-    ep = _entry_points().get(name)
-    if ep is None:
-        raise BackendNotFound(name)
+    package = REGISTRY.find(name).package
     spec = get_backend(name)
-    dist = getattr(ep, "dist", None)
-    package = f"{dist.name} {dist.version}" if dist is not None else "unknown package"
     return f"{package}; {spec.version}" if spec.version else package
 
 
-@cache
 def get_backend(name: str) -> BackendSpec:
-    ep = _entry_points().get(name)
-    if ep is None:
-        raise BackendNotFound(name)
-    try:
-        spec = ep.load()
-    except Exception as exc:  # a broken plug-in must not take gaitgram down
-        raise BackendLoadError(f"backend {name!r} ({ep.value}) failed to load: {exc}") from exc
-    if not isinstance(spec, BackendSpec):
-        raise BackendLoadError(f"backend {name!r} ({ep.value}) is not a gaitgram BackendSpec")
-    return spec
+    return REGISTRY.get(name)

@@ -16,17 +16,17 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 from gaitgram.backends.api import Evaluator
 from gaitgram.cli.common import check_output, err, load_usable
 from gaitgram.cli.options import Defines, parse_defines
+from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint
 from gaitgram.evolution.config import ConfigError, RunConfig, load_config, with_overrides
 from gaitgram.evolution.distributed import ClusterError, DaskEvaluator, connect
-from gaitgram.evolution.engine import CheckpointError, GenerationStats, load_checkpoint
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
 from gaitgram.evolution.session import run_session, stop_on_interrupt
 from gaitgram.extras import MissingExtra
 from gaitgram.fileio import DirectoryInUse, DirectoryLock
 from gaitgram.language.source import SourceError, read_source
 from gaitgram.pipeline import Pipeline, PipelineError
-from gaitgram.strategies.api import StrategyError
-from gaitgram.strategies.registry import load_strategy
+from gaitgram.strategies.api import GenerationStats, StrategyError
+from gaitgram.strategies.registry import load_strategy, run_pipeline
 
 #: What makes a run refused before it starts (exit 2).
 _INPUT_ERRORS = (ConfigError, PipelineError, RunDirectoryError, CheckpointError)
@@ -112,7 +112,7 @@ def command(
                 if out is not None:
                     RunDirectory.check_new(out)  # before any work
                 values = parse_defines(defines)
-                pipeline = Pipeline.build(load_usable(grammar, values), load_config(config, given))
+                pipeline = run_pipeline(load_usable(grammar, values), load_config(config, given))
                 if out is None:
                     out = Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}"
                     RunDirectory.check_new(out)

@@ -17,8 +17,8 @@ import typer
 from gaitgram.backends.api import Evaluation
 from gaitgram.cli.common import load_usable, read_genome
 from gaitgram.cli.options import parse_defines
+from gaitgram.evolution.checkpoint import CheckpointError
 from gaitgram.evolution.config import ConfigError, load_config
-from gaitgram.evolution.engine import CheckpointError
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_of_runs, best_walk_of_runs
 from gaitgram.pipeline import Pipeline, PipelineError
 

@@ -9,17 +9,15 @@ from __future__ import annotations
 import csv
 import io
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from gaitgram import jsonio
 from gaitgram.fileio import write_atomically
 from gaitgram.ge.visualise import ascii_tree
 from gaitgram.language.model import FREQUENCY
 from gaitgram.motion.gait import motion_batch
-
-if TYPE_CHECKING:
-    from gaitgram.evolution.engine import RunState
-    from gaitgram.pipeline import Individual, Pipeline
+from gaitgram.pipeline import Individual, Pipeline
+from gaitgram.strategies.api import RunState
 
 
 def stats_csv(records: list[dict[str, Any]]) -> str:

@@ -40,14 +40,17 @@ from gaitgram import __version__, jsonio
 from gaitgram.analysis import check
 from gaitgram.backends.api import Evaluation, GaitStatus
 from gaitgram.backends.registry import backend_version
+from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint, save_checkpoint
 from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, differences, read_toml
-from gaitgram.evolution.engine import ENGINE_REVISION, RunState
+from gaitgram.evolution.engine import ENGINE_REVISION, run_context, run_files
+from gaitgram.evolution.records import run_records
 from gaitgram.fileio import OutputError, check_output, created_directory, write_atomically
 from gaitgram.language import parse
 from gaitgram.language.source import SourceText, decode_source
 from gaitgram.pipeline import Genome, Individual, Pipeline, PipelineError
+from gaitgram.strategies.api import RunState, StrategyError
 from gaitgram.strategies.figures import RecordError, kept_members
-from gaitgram.strategies.registry import get_strategy
+from gaitgram.strategies.registry import get_strategy, load_strategy, run_pipeline
 
 MANIFEST = "manifest.json"
 GRAMMAR = "grammar.gg"
@@ -108,7 +111,7 @@ def fingerprint(pipeline: Pipeline, defines: Mapping[str, int], *, with_runs: bo
 
 
 def build_pipeline(source: SourceText, defines: Mapping[str, int], config: RunConfig) -> Pipeline:
-    return Pipeline.build(check(parse(source, defines=defines)), config)
+    return run_pipeline(check(parse(source, defines=defines)), config)
 
 
 @dataclass(frozen=True)
@@ -247,8 +250,6 @@ class RunDirectory:
         same run whatever the count), new ones are added. Safe to kill at any point: the manifest,
         naming both the old and the new configuration, is written before the configuration, and
         checkpoints fingerprinted with the count are re-saved, one by one, before either."""
-        from gaitgram.evolution.engine import load_checkpoint, save_checkpoint
-
         if runs < self.config.runs:
             raise RunDirectoryError(
                 f"{self.path} has {self.config.runs} runs; a run directory grows but never shrinks "
@@ -284,11 +285,6 @@ class RunDirectory:
         A strategy's records are rebuilt from its pickled state beside the checkpoint; where that
         is gone (committed results keep none), they are left as they are.
         """
-        from gaitgram.evolution.engine import CheckpointError, load_checkpoint, run_seed
-        from gaitgram.evolution.records import record_text, run_records
-        from gaitgram.strategies.api import RunContext, StrategyError
-        from gaitgram.strategies.registry import load_strategy
-
         run_dir = self.run_dir(run)
         checkpoint = run_dir / "checkpoint.json"
         accepted = self.fingerprints
@@ -301,12 +297,12 @@ class RunDirectory:
                 state = None
             if state is not None and state.memory is not None:
                 strategy = load_strategy(self.pipeline)
-                context = RunContext(self.pipeline, run, run_seed(self.config.seed, self.config.runs, run))
+                context = run_context(self.pipeline, run)
                 try:
                     state.memory = strategy.restore(context, state.memory)
                 except StrategyError as error:
                     raise CheckpointError(f"{checkpoint}: {error}; it cannot be resumed") from None
-                files.update({name: record_text(c) for name, c in strategy.records(context, state).items()})
+                files = run_files(self.pipeline, strategy, context, state)
         rewritten = []
         for name, text in files.items():
             try:
@@ -340,7 +336,7 @@ class RunDirectory:
                     found.append(f"{shown}, but the run has {was}")
         if config is not None:
             try:
-                resolved = Pipeline.build(self.pipeline.checked, config).config
+                resolved = run_pipeline(self.pipeline.checked, config).config
             except PipelineError as error:
                 return [*found, str(error)]
             found += differences(self.config, resolved, ignore=self.pipeline.spec.runtime_settings)
@@ -464,8 +460,6 @@ def best_of_runs(directory: RunDirectory) -> tuple[int, int, Individual]:
 
 def _last_states(directory: RunDirectory) -> Iterator[tuple[int, RunState]]:
     """Each run's last checkpoint (runs with none yet are skipped), without strategy memory."""
-    from gaitgram.evolution.engine import load_checkpoint
-
     for run, path in enumerate(directory.checkpoints):
         if path.exists():
             yield (

@@ -11,9 +11,10 @@ from typing import Any
 
 from gaitgram import jsonio
 from gaitgram.backends.api import Evaluator
-from gaitgram.evolution.engine import GenerationStats, RunState, run_evolution
+from gaitgram.evolution.engine import run_evolution
 from gaitgram.evolution.rundir import RunDirectory
 from gaitgram.fileio import write_atomically
+from gaitgram.strategies.api import GenerationStats, RunState
 
 
 def run_session(

@@ -16,9 +16,10 @@ from collections import Counter
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import BinaryIO, NamedTuple
+from typing import BinaryIO
 
 from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit, diagnostic
+from gaitgram.spans import Span
 
 __all__ = [
     "MAX_SOURCE_BYTES",
@@ -35,27 +36,6 @@ __all__ = [
     "read_source",
     "unencodable_text",
 ]
-
-
-class Span(NamedTuple):
-    """A half-open range ``[start, end)`` of character offsets.
-
-    A tuple, so that it cannot change: a model keeps its spans for as long as it lives
-    (a frozen dataclass would do too, but is twice as slow to build, and a large grammar
-    has hundreds of thousands of spans). Ordered by start, then end.
-    """
-
-    start: int
-    end: int
-
-    def cover(self, other: Span) -> Span:
-        return Span(min(self.start, other.start), max(self.end, other.end))
-
-    def shifted(self, delta: int) -> Span:
-        return Span(self.start + delta, self.end + delta)
-
-    def __contains__(self, offset: object) -> bool:  # type: ignore[override]  # an offset, not an item
-        return isinstance(offset, int) and self.start <= offset <= self.end
 
 
 @dataclass(frozen=True, slots=True)

@@ -6,18 +6,19 @@ A run is a loop that the engine owns (:func:`gaitgram.evolution.engine.run_evolu
     for each generation g = 0, 1, ...:
         genomes    = strategy.ask(context, state)          # g = state.generation + 1
         evaluated  = pipeline.evaluate(genomes, evaluator, g)
+        evaluated  = what the strategy keeps, checked over the backend's horizon
         population = strategy.tell(context, state, evaluated)
         checkpoint (population, rng, history, memory)
 
 so every strategy is scored by the same pipeline as every command, and none can
 skip the checkpoint. A strategy object is stateless; what it must remember
-between generations is the run's :class:`~gaitgram.evolution.engine.RunState`:
-the population it returned, the run's generator ``rng`` (checkpointed as
-JSON) and ``memory``, anything picklable the strategy keeps of its own (a
-library's optimiser, an archive), pickled beside the checkpoint after every
-generation. Libraries draw from generators of their own
-(:meth:`RunContext.generator`), never from ``rng`` and never from NumPy's
-global state, so that a resumed run continues exactly where it stopped.
+between generations is the run's :class:`RunState`: the population it returned,
+the run's generator ``rng`` (checkpointed as JSON) and ``memory``, anything
+picklable the strategy keeps of its own (a library's optimiser, an archive),
+pickled beside the checkpoint after every generation. Libraries draw from
+generators of their own (:meth:`RunContext.generator`), never from ``rng`` and
+never from NumPy's global state, so that a resumed run continues exactly where
+it stopped.
 
 The contract, checked when a checkpoint is read back: the population a
 strategy returns has ``config.population`` individuals. For the budget to be
@@ -29,17 +30,84 @@ joint-freedom change come on top, as in GE).
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from gaitgram.evolution.engine import RunState
-    from gaitgram.pipeline import Individual, Pipeline
+from gaitgram.backends.api import GaitStatus
+from gaitgram.ge.operators import elite
+from gaitgram.pipeline import Individual, Pipeline
 
 Genome = tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class GenerationStats:
+    generation: int
+    best: float
+    average: float  # over viable individuals (status ok); NaN if none
+    std: float
+    invalid: int  # individuals with no viable gait (invalid genome, fell, ...)
+    evaluations: int  # gaits evaluated this generation
+    components: Mapping[str, float] = field(default_factory=dict)  # means over viable individuals
+    #: Over every individual, unviable ones at their (finite) score: the paper's "average fitness".
+    average_all: float = math.nan
+
+    def as_record(self) -> dict[str, Any]:
+        return {
+            "generation": self.generation,
+            "best": self.best,
+            "average_all": self.average_all,
+            "average": self.average,
+            "std": self.std,
+            "invalid": self.invalid,
+            "evaluations": self.evaluations,
+            **{f"mean_{k}": v for k, v in sorted(self.components.items())},
+        }
+
+
+def generation_stats(generation: int, population: Sequence[Individual], evaluations: int) -> GenerationStats:
+    fitness = np.array([i.fitness for i in population])
+    viable = [i for i in population if i.evaluation.status is GaitStatus.OK]
+    values = np.array([i.fitness for i in viable])
+    components: dict[str, float] = {}
+    for name in sorted({k for i in viable for k in i.evaluation.components}):
+        components[name] = float(np.mean([i.evaluation.components.get(name, math.nan) for i in viable]))
+    return GenerationStats(
+        generation=generation,
+        best=float(fitness.min()),
+        average=float(values.mean()) if len(values) else math.nan,
+        std=float(values.std()) if len(values) else math.nan,
+        invalid=len(population) - len(viable),
+        evaluations=evaluations,
+        components=components,
+        average_all=float(fitness.mean()),
+    )
+
+
+@dataclass
+class RunState:
+    """A run between two generations: what a strategy is asked from and what a checkpoint holds."""
+
+    generation: int
+    population: list[Individual]
+    rng: np.random.Generator
+    history: list[GenerationStats]
+    #: The strategy's own state (None for GE): pickled beside the checkpoint.
+    memory: Any = None
+
+    @property
+    def best(self) -> Individual:
+        return min(self.population, key=lambda i: i.fitness)
+
+
+def elites_of(population: Sequence[Individual], count: int) -> list[Individual]:
+    """The ``count`` best individuals, best first (ties by position)."""
+    return [population[i] for i in elite([i.fitness for i in population], count)]
 
 
 class StrategyError(ValueError):

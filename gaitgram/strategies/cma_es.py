@@ -25,10 +25,9 @@ from typing import Any
 
 import numpy as np
 
-from gaitgram.evolution.engine import RunState
 from gaitgram.extras import require
 from gaitgram.pipeline import Individual, Pipeline
-from gaitgram.strategies.api import Genome, RunContext, Strategy, StrategyError
+from gaitgram.strategies.api import Genome, RunContext, RunState, Strategy, StrategyError
 from gaitgram.strategies.common import batch_size, elitist, known_keys, number, with_elites
 from gaitgram.strategies.parameters import ParameterSpace, parameter_space
 from gaitgram.strategies.registry import StrategySpec, library_version

@@ -1,23 +1,38 @@
-"""What several strategies share: the budget, carried elites, GE's variation, settings checks."""
+"""What several strategies share: GE's initialisation and variation, the budget, carried elites,
+settings checks."""
 
 from __future__ import annotations
 
 import difflib
 import math
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from gaitgram.backends.api import SettingsError
+from gaitgram.evolution.config import RunConfig
+from gaitgram.ge.initialisation import ramped_population
+from gaitgram.ge.mapper import Mapper
 from gaitgram.ge.operators import Genome, int_flip_mutation, one_point_crossover
-from gaitgram.strategies.api import StrategyError
+from gaitgram.pipeline import Individual, Pipeline
+from gaitgram.strategies.api import RunState, StrategyError, elites_of
 
-if TYPE_CHECKING:
-    from gaitgram.evolution.config import RunConfig
-    from gaitgram.evolution.engine import RunState
-    from gaitgram.ge.mapper import Mapper
-    from gaitgram.pipeline import Individual, Pipeline
+
+def initial_genomes(pipeline: Pipeline, rng: np.random.Generator, size: int) -> list[Genome]:
+    """``size`` genomes of random trees, as GE initialises (RampedFullGrow, Table 1)."""
+    config = pipeline.config
+    trees = ramped_population(
+        pipeline.facts,
+        rng,
+        size,
+        max_depth=config.init_max_depth,
+        grow_probability=config.grow_probability,
+        codons=config.codons,
+        codon_size=config.codon_size,
+        tail=config.tail,
+    )
+    return [t.genome for t in trees]
 
 
 def batch_size(config: RunConfig, generation: int) -> int:
@@ -29,9 +44,7 @@ def batch_size(config: RunConfig, generation: int) -> int:
 def with_elites(state: RunState, pipeline: Pipeline, new: list[Genome]) -> list[Genome]:
     """``new``, after the elites' genomes when their scores are stale (a weight or joint-freedom
     change, as GE re-scores them)."""
-    from gaitgram.evolution.engine import elites_of, scores_change
-
-    if state.generation >= 0 and scores_change(pipeline, state.generation + 1):
+    if state.generation >= 0 and pipeline.scores_change(state.generation + 1):
         return [i.genome for i in elites_of(state.population, pipeline.config.elite)] + new
     return new
 
@@ -41,12 +54,10 @@ def elitist(
 ) -> tuple[list[Individual], list[Individual]]:
     """(the next population: the best ``elite`` so far, then the new gaits; the new gaits alone),
     for what :func:`with_elites` asked."""
-    from gaitgram.evolution.engine import elites_of, scores_change
-
     if state.generation < 0:
         return evaluated, evaluated
     elites = elites_of(state.population, pipeline.config.elite)
-    if scores_change(pipeline, state.generation + 1):
+    if pipeline.scores_change(state.generation + 1):
         return evaluated, evaluated[len(elites) :]
     return elites + evaluated, evaluated
 
@@ -54,11 +65,9 @@ def elitist(
 def require_fixed_scores(pipeline: Pipeline, strategy: str, keeps: str) -> None:
     """Refuse a run whose scores change during it (a weight schedule or a joint coming free):
     ``keeps`` would hold stale scores."""
-    from gaitgram.evolution.engine import scores_change
-
     config = pipeline.config
     for generation in range(1, config.generations + 1):
-        if scores_change(pipeline, generation):
+        if pipeline.scores_change(generation):
             raise StrategyError(
                 f"strategy {strategy}: the scores change at generation {generation} (a weight schedule "
                 f"stage or an @joint free= annotation), and {keeps} would keep the old ones; give it "
@@ -99,10 +108,20 @@ class GEVariation:
             raise RuntimeError("GEVariation.mapper is not attached")
         return [m.used_codons for m in self.mapper.map_many(genomes)]
 
-    def cross(self, first: Genome, second: Genome, rng: np.random.Generator) -> tuple[Genome, Genome]:
-        """One-point crossover of two parents (whether to cross at all is the caller's draw)."""
-        used = tuple(self._used([first, second])) if self.crossover_within_used else None
-        return one_point_crossover(first, second, rng, fixed_point=self.fixed_point, used=used)  # type: ignore[arg-type]
+    def cross(
+        self,
+        first: Genome,
+        second: Genome,
+        rng: np.random.Generator,
+        used: tuple[int, int] | None = None,
+    ) -> tuple[Genome, Genome]:
+        """One-point crossover of two parents (whether to cross at all is the caller's draw);
+        ``used``, the codons each parent's mapping reads, when the caller knows them."""
+        if not self.crossover_within_used:
+            used = None
+        elif used is None:
+            used = tuple(self._used([first, second]))  # type: ignore[assignment]
+        return one_point_crossover(first, second, rng, fixed_point=self.fixed_point, used=used)
 
     def mutate(self, genomes: Sequence[Genome], rng: np.random.Generator) -> list[Genome]:
         """Int-flip mutation of each genome (within the codons it uses, if the run says so)."""

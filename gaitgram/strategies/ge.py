@@ -1,4 +1,4 @@
-"""``ge``: the paper's grammatical evolution loop (Table 1), as :mod:`gaitgram.evolution.engine` runs it.
+"""``ge``: the paper's grammatical evolution (Table 1), the one place GE's generation is written.
 
 Ask gives the offspring of tournament selection, one-point crossover and
 int-flip mutation (after the elites when their scores are stale); tell keeps
@@ -11,10 +11,10 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from gaitgram.evolution.engine import RunState, initial_genomes, next_population, offspring
+from gaitgram.ge.operators import tournament
 from gaitgram.pipeline import Individual, Pipeline
-from gaitgram.strategies.api import Genome, RunContext, Strategy
-from gaitgram.strategies.common import known_keys
+from gaitgram.strategies.api import Genome, RunContext, RunState, Strategy
+from gaitgram.strategies.common import GEVariation, elitist, initial_genomes, known_keys, with_elites
 from gaitgram.strategies.registry import StrategySpec
 
 
@@ -25,9 +25,30 @@ class GrammaticalEvolution(Strategy):
         return offspring(state, context.pipeline)
 
     def tell(self, context: RunContext, state: RunState, evaluated: list[Individual]) -> list[Individual]:
-        if state.generation < 0:
-            return evaluated
-        return next_population(state, context.pipeline, evaluated)
+        return elitist(state, context.pipeline, evaluated)[0]
+
+
+def offspring(state: RunState, pipeline: Pipeline) -> list[Genome]:
+    """GE's offspring: tournaments, one-point crossover and int-flip mutation, all from the run's
+    ``rng``; after the elites when their scores are stale (``with_elites``)."""
+    config = pipeline.config
+    rng, population = state.rng, state.population
+    variation = GEVariation(config)
+    variation.mapper = pipeline.mapper
+    n_offspring = config.population - config.elite
+    parents = tournament(
+        [i.fitness for i in population], rng, size=config.tournament, count=n_offspring + n_offspring % 2
+    )
+    children: list[Genome] = []
+    for a, b in zip(parents[::2], parents[1::2], strict=True):
+        first, second = population[a], population[b]
+        if rng.random() < config.crossover:
+            children += variation.cross(
+                first.genome, second.genome, rng, used=(first.used_codons, second.used_codons)
+            )
+        else:
+            children += [first.genome, second.genome]
+    return with_elites(state, pipeline, variation.mutate(children[:n_offspring], rng))
 
 
 def check(pipeline: Pipeline) -> Mapping[str, Any]:

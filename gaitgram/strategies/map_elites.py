@@ -29,15 +29,15 @@ from typing import Any
 import numpy as np
 
 from gaitgram.backends.api import GaitStatus, SettingsError
-from gaitgram.evolution.engine import RunState, initial_genomes
 from gaitgram.extras import require
 from gaitgram.pipeline import Individual, Pipeline
-from gaitgram.strategies.api import Genome, RunContext, Strategy, StrategyError
+from gaitgram.strategies.api import Genome, RunContext, RunState, Strategy, StrategyError
 from gaitgram.strategies.common import (
     GEVariation,
     batch_size,
     component,
     elitist,
+    initial_genomes,
     known_keys,
     reported,
     require_fixed_scores,

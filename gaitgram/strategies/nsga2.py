@@ -25,13 +25,13 @@ from typing import Any
 import numpy as np
 
 from gaitgram.backends.api import WORST_FITNESS, GaitStatus, SettingsError
-from gaitgram.evolution.engine import RunState, initial_genomes
 from gaitgram.extras import require
 from gaitgram.pipeline import Individual, Pipeline
-from gaitgram.strategies.api import Genome, RunContext, Strategy, StrategyError
+from gaitgram.strategies.api import Genome, RunContext, RunState, Strategy, StrategyError
 from gaitgram.strategies.common import (
     GEVariation,
     component,
+    initial_genomes,
     known_keys,
     names,
     reported,

@@ -11,10 +11,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from gaitgram.evolution.engine import RunState, initial_genomes
 from gaitgram.pipeline import Individual, Pipeline
-from gaitgram.strategies.api import Genome, RunContext, Strategy
-from gaitgram.strategies.common import batch_size, elitist, known_keys, with_elites
+from gaitgram.strategies.api import Genome, RunContext, RunState, Strategy
+from gaitgram.strategies.common import batch_size, elitist, initial_genomes, known_keys, with_elites
 from gaitgram.strategies.registry import StrategySpec
 
 

@@ -15,16 +15,15 @@ and a plug-in cannot take one of their names.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
-from functools import cache
-from importlib import import_module
-from importlib.metadata import PackageNotFoundError, entry_points, version
-from typing import TYPE_CHECKING, Any
+from dataclasses import dataclass, replace
+from typing import Any
 
-from gaitgram.strategies.api import Strategy
-
-if TYPE_CHECKING:
-    from gaitgram.pipeline import Pipeline
+from gaitgram.analysis import CheckResult
+from gaitgram.backends.api import SettingsError
+from gaitgram.evolution.config import RunConfig
+from gaitgram.pipeline import Pipeline, PipelineError
+from gaitgram.plugins import PluginLoadError, PluginNotFound, Registry, package_version
+from gaitgram.strategies.api import Strategy, StrategyError
 
 ENTRY_POINT_GROUP = "gaitgram.strategies"
 
@@ -60,49 +59,58 @@ class StrategySpec:
     version: str = ""
 
 
-class StrategyNotFound(LookupError):
-    def __init__(self, name: str) -> None:
-        super().__init__(name)
-        self.name = name
-
-
-class StrategyLoadError(RuntimeError):
+class StrategyNotFound(PluginNotFound):
     pass
 
 
-@cache
-def _entry_points() -> dict[str, str]:
-    found = {ep.name: ep.value for ep in entry_points(group=ENTRY_POINT_GROUP)}
-    return {**found, **BUILTIN}  # a plug-in cannot take a built-in's name
+class StrategyLoadError(PluginLoadError):
+    pass
+
+
+REGISTRY: Registry[StrategySpec] = Registry(
+    ENTRY_POINT_GROUP,
+    "strategy",
+    StrategySpec,
+    BUILTIN,
+    not_found=StrategyNotFound,
+    load_error=StrategyLoadError,
+)
 
 
 def strategy_names() -> tuple[str, ...]:
-    return tuple(sorted(_entry_points()))
+    return REGISTRY.names()
 
 
-@cache
 def get_strategy(name: str) -> StrategySpec:
-    target = _entry_points().get(name)
-    if target is None:
-        raise StrategyNotFound(name)
-    module, _, attribute = target.partition(":")
-    try:
-        spec = getattr(import_module(module), attribute)
-    except Exception as exc:  # a broken plug-in must not take gaitgram down
-        raise StrategyLoadError(f"strategy {name!r} ({target}) failed to load: {exc}") from exc
-    if not isinstance(spec, StrategySpec):
-        raise StrategyLoadError(f"strategy {name!r} ({target}) is not a gaitgram StrategySpec")
-    return spec
+    return REGISTRY.get(name)
 
 
-def library_version(distribution: str) -> str:
-    """``"NAME VERSION"`` of an installed distribution, or ``"NAME not installed"`` (cheap: no import)."""
-    try:
-        return f"{distribution} {version(distribution)}"
-    except PackageNotFoundError:
-        return f"{distribution} not installed"
+#: ``"NAME VERSION"`` of a strategy's library (its spec's version names it).
+library_version = package_version
 
 
 def load_strategy(pipeline: Pipeline) -> Strategy:
     """The strategy of a built pipeline's config, its library imported (``MissingExtra`` if absent)."""
     return get_strategy(pipeline.config.strategy).load()
+
+
+def run_pipeline(checked: CheckResult, config: RunConfig) -> Pipeline:
+    """The pipeline of a run: :meth:`Pipeline.build`, then the run's strategy checked against it
+    (it can search this grammar and configuration) and its settings normalised, defaults spelt
+    out; :class:`~gaitgram.pipeline.PipelineError` says what is wrong and how to fix it."""
+    pipeline = Pipeline.build(checked, config)
+    try:
+        strategy = get_strategy(config.strategy)
+    except StrategyNotFound as error:
+        raise PipelineError(f"strategy: {error}") from None
+    except StrategyLoadError as error:
+        raise PipelineError(str(error)) from None
+    if strategy.check is None:
+        return pipeline
+    try:
+        settings = dict(strategy.check(pipeline))
+    except SettingsError as error:
+        raise PipelineError(f"[strategy_settings] {error.key}: {error.message}") from None
+    except StrategyError as error:
+        raise PipelineError(str(error)) from None
+    return replace(pipeline, config=replace(pipeline.config, strategy_settings=settings))

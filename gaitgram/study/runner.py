@@ -40,8 +40,9 @@ from typing import Any
 
 from gaitgram import jsonio
 from gaitgram.backends.api import Evaluator
+from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint
 from gaitgram.evolution.distributed import DaskCluster, import_distributed
-from gaitgram.evolution.engine import CheckpointError, load_checkpoint, run_evolution
+from gaitgram.evolution.engine import run_evolution
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, fingerprint
 from gaitgram.evolution.session import summary
 from gaitgram.extras import MissingExtra

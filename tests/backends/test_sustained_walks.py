@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 from conftest import GRAMMARS
 from gaitgram.backends.api import GaitStatus
 from gaitgram.cli import app
-from gaitgram.evolution.engine import load_checkpoint
+from gaitgram.evolution.checkpoint import load_checkpoint
 from gaitgram.evolution.rundir import RunDirectory
 from gaitgram.pipeline import Pipeline
 

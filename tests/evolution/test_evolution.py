@@ -21,6 +21,7 @@ from gaitgram.evolution.config import ConfigError, RunConfig, WeightStage, load_
 from gaitgram.evolution.engine import run_evolution
 from gaitgram.language import parse
 from gaitgram.pipeline import Pipeline
+from gaitgram.strategies.registry import run_pipeline
 
 runner = CliRunner()
 
@@ -59,7 +60,7 @@ def config_file(tmp_path: Path, generations: int = 25, **extra: object) -> Path:
 
 def pipeline(config: RunConfig) -> Pipeline:
     config = replace(config, backend="curve-match", backend_settings={"targets": TARGETS})
-    return Pipeline.build(check(parse(GRAMMAR)), config)
+    return run_pipeline(check(parse(GRAMMAR)), config)
 
 
 def evolve(tmp_path: Path, config: RunConfig, run_dir: str = "run"):

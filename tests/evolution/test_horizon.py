@@ -21,11 +21,13 @@ from conftest import GRAMMARS
 from gaitgram.analysis import check
 from gaitgram.backends.api import Evaluation, GaitStatus, VerifyingEvaluator
 from gaitgram.backends.mujoco_horse.task import DEFAULT_WEIGHTS, WALK_COMPONENTS
+from gaitgram.evolution.checkpoint import load_checkpoint
 from gaitgram.evolution.config import RunConfig
-from gaitgram.evolution.engine import load_checkpoint, run_evolution
+from gaitgram.evolution.engine import run_evolution
 from gaitgram.language import load
 from gaitgram.motion.gait import MotionBatch
 from gaitgram.pipeline import Pipeline
+from gaitgram.strategies.registry import run_pipeline
 
 
 def _key(angles: np.ndarray) -> float:
@@ -95,7 +97,7 @@ class FallsAtCycleFour:
 
 def pipeline(strategy: str = "ge", **settings: object) -> Pipeline:
     config = RunConfig(generations=6, population=20, elite=2, seed=3, strategy=strategy, **settings)
-    return Pipeline.build(check(load(GRAMMARS / "sine-walk.gg")), config)
+    return run_pipeline(check(load(GRAMMARS / "sine-walk.gg")), config)
 
 
 @pytest.mark.parametrize("strategy", ["ge", "random", "nsga2", "map-elites"])

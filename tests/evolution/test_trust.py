@@ -21,9 +21,10 @@ from gaitgram.analysis import check
 from gaitgram.backends.curve_match import CurveMatch
 from gaitgram.cli import app
 from gaitgram.evolution.config import RunConfig
-from gaitgram.evolution.engine import initial_state, step
+from gaitgram.evolution.engine import advance, begin, run_context
 from gaitgram.language import parse
-from gaitgram.pipeline import Pipeline
+from gaitgram.strategies.ge import GrammaticalEvolution
+from gaitgram.strategies.registry import run_pipeline
 
 runner = CliRunner()
 
@@ -373,9 +374,10 @@ def test_mutation_within_used_leaves_the_unused_tail_alone() -> None:
     evaluator = CurveMatch(TARGETS)
 
     def tails_after_one_generation(config: RunConfig) -> tuple[set, list]:
-        pipeline = Pipeline.build(check(parse(GRAMMAR)), config)
-        state = initial_state(pipeline, evaluator, 0)
-        after = step(state, pipeline, evaluator)
+        pipeline = run_pipeline(check(parse(GRAMMAR)), config)
+        strategy, context = GrammaticalEvolution(), run_context(pipeline, 0)
+        state = begin(strategy, context, evaluator)
+        after = advance(strategy, context, state, evaluator)
         return {i.genome[i.used_codons :] for i in state.population}, after.population
 
     parents, children = tails_after_one_generation(config)
@@ -444,7 +446,7 @@ def test_resume_with_more_runs_adds_them_and_equals_a_fresh_run(tmp_path: Path, 
 def test_a_directory_fingerprinted_with_its_run_count_still_opens_and_grows(finished_run: Path) -> None:
     """Directories made before the run count left the fingerprint (docs/results/ holds some) keep
     working: they open, resume, and grow, their checkpoints re-saved under the new fingerprint."""
-    from gaitgram.evolution.engine import load_checkpoint, save_checkpoint
+    from gaitgram.evolution.checkpoint import load_checkpoint, save_checkpoint
     from gaitgram.evolution.rundir import RunDirectory, best_of_runs, fingerprint
 
     directory = RunDirectory.open(finished_run)

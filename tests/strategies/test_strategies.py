@@ -23,12 +23,15 @@ from gaitgram.analysis import check
 from gaitgram.backends.api import GaitStatus
 from gaitgram.backends.curve_match import CurveMatch
 from gaitgram.cli import app
-from gaitgram.evolution import engine
+from gaitgram.evolution import checkpoint as checkpoints
+from gaitgram.evolution.checkpoint import load_checkpoint
 from gaitgram.evolution.config import RunConfig, load_config
-from gaitgram.evolution.engine import RunState, load_checkpoint, run_evolution
+from gaitgram.evolution.engine import run_evolution
 from gaitgram.language import parse
 from gaitgram.pipeline import Pipeline, PipelineError
+from gaitgram.strategies.api import RunState
 from gaitgram.strategies.figures import non_dominated
+from gaitgram.strategies.registry import run_pipeline
 
 runner = CliRunner()
 
@@ -78,7 +81,7 @@ def build(strategy: str, **changes: Any) -> Pipeline:
         strategy=strategy,
         strategy_settings=SETTINGS.get(strategy, {}),
     )
-    return Pipeline.build(check(parse(grammar_for(strategy))), replace(config, **changes))
+    return run_pipeline(check(parse(grammar_for(strategy))), replace(config, **changes))
 
 
 def search(
@@ -139,17 +142,17 @@ def test_a_kill_between_the_state_and_the_checkpoint_resumes_exactly(
 ) -> None:
     """The strategy's pickle is written, then the process dies before the checkpoint names it."""
     whole = search(tmp_path, strategy, "whole", generations=10)
-    real = engine.write_atomically
+    real = checkpoints.write_atomically
 
     def dying(path: Path, text: str | bytes, **kwargs: Any) -> None:
         if path.name == "checkpoint.json" and json.loads(text)["checkpoint"]["generation"] == 5:
             raise Killed
         real(path, text, **kwargs)
 
-    monkeypatch.setattr(engine, "write_atomically", dying)
+    monkeypatch.setattr(checkpoints, "write_atomically", dying)
     with pytest.raises(Killed):
         search(tmp_path, strategy, "killed", generations=10)
-    monkeypatch.setattr(engine, "write_atomically", real)
+    monkeypatch.setattr(checkpoints, "write_atomically", real)
     killed = tmp_path / "killed"
     if strategy != "random":  # the orphan of generation 5 is there, the checkpoint is generation 4's
         assert (killed / "strategy-000005.pickle").exists()
@@ -312,7 +315,7 @@ def test_map_elites_fills_cells_and_keeps_the_best_of_each(tmp_path: Path) -> No
 def test_cma_es_refuses_a_structural_grammar_and_says_which_grammars_it_takes(tmp_path: Path) -> None:
     config = RunConfig(backend="curve-match", backend_settings={"targets": TARGETS}, strategy="cma-es")
     with pytest.raises(PipelineError) as error:
-        Pipeline.build(check(parse(STRUCTURAL, name="s.gg")), config)
+        run_pipeline(check(parse(STRUCTURAL, name="s.gg")), config)
     message = str(error.value)
     assert "s.gg:4:1: <hip> chooses between alternatives of different structure" in message
     assert "numerical.gg" in message
@@ -331,7 +334,7 @@ def test_cma_es_searches_the_bundled_numerical_grammar_from_its_seed() -> None:
     from gaitgram.strategies.parameters import parameter_space
 
     grammar = Path(__file__).resolve().parents[2] / "grammars" / "numerical.gg"
-    pipeline = Pipeline.build(
+    pipeline = run_pipeline(
         check(parse(grammar.read_text(), name=str(grammar))), RunConfig(strategy="cma-es")
     )
     space = parameter_space(pipeline)
@@ -357,7 +360,7 @@ def test_strategy_settings_are_checked_and_recorded(tmp_path: Path) -> None:
         build("cmaes")
     freeing = check(parse(STRUCTURAL.replace("@joint hip_hind", "@joint hip_hind free=3..")))
     with pytest.raises(PipelineError, match="the scores change at generation 3"):
-        Pipeline.build(freeing, build("map-elites").config)
+        run_pipeline(freeing, build("map-elites").config)
     grammar, config = write_inputs(tmp_path, "map-elites", generations=2)
     result = runner.invoke(
         app, ["evolve", str(grammar), "-c", str(config), "-o", str(tmp_path / "out"), "-q"]
@@ -395,10 +398,10 @@ def test_a_damaged_strategy_state_is_refused(tmp_path: Path) -> None:
     pipeline = build("cma-es", generations=2)
     (pickled,) = (tmp_path / "run").glob("strategy-*.pickle")
     pickled.write_bytes(pickled.read_bytes()[:-1] + b"\x00")
-    with pytest.raises(engine.CheckpointError, match="does not match its digest"):
+    with pytest.raises(checkpoints.CheckpointError, match="does not match its digest"):
         load_checkpoint(tmp_path / "run" / "checkpoint.json", pipeline, fingerprint="test", run=0)
     pickled.unlink()
-    with pytest.raises(engine.CheckpointError, match="cannot be read"):
+    with pytest.raises(checkpoints.CheckpointError, match="cannot be read"):
         load_checkpoint(tmp_path / "run" / "checkpoint.json", pipeline, fingerprint="test", run=0)
     state = load_checkpoint(
         tmp_path / "run" / "checkpoint.json", pipeline, fingerprint="test", run=0, with_memory=False

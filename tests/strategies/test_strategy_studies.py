@@ -16,7 +16,7 @@ from gaitgram.analysis import check
 from gaitgram.cli import app
 from gaitgram.language import parse
 from gaitgram.language.source import read_source
-from gaitgram.pipeline import Pipeline
+from gaitgram.strategies.registry import run_pipeline
 from gaitgram.study.report import load_study_arms
 from gaitgram.study.spec import ScaleDown, StudyError, load_study
 
@@ -130,7 +130,7 @@ def test_the_bundled_strategies_study_compares_at_the_table_1_budget() -> None:
         assert (arm.config.generations, arm.config.population, arm.config.elite) == (50, 75, 7)
         assert arm.config.budget == 3475
         assert "weights" not in arm.config.backend_settings  # the defaults: under them GE walks
-        pipeline = Pipeline.build(check(parse(read_source(arm.grammar))), arm.config)
+        pipeline = run_pipeline(check(parse(read_source(arm.grammar))), arm.config)
         assert pipeline.config.strategy == arm.strategy
     small = load_study(ROOT / "studies" / "strategies.toml", ScaleDown(runs=5, generations=10, population=30))
     assert {a.config.budget for a in small.arms} == {30 + 10 * 27}

@@ -10,8 +10,8 @@ from importlib.resources import files
 from typing import Any
 
 from gaitgram.backends.api import Verdict
-from gaitgram.backends.catalogue import load_catalogue
-from gaitgram.backends.mujoco_horse.settings import WEIGHT_NAMES, HorseSettings
+from gaitgram.backends.mujoco_horse.joints import CATALOGUE
+from gaitgram.backends.mujoco_horse.settings import WEIGHT_NAMES, HorseSettings, weights_in_force
 from gaitgram.backends.mujoco_horse.task import (
     CYCLE_FREQUENCIES,
     DEFAULT_WEIGHTS,
@@ -21,7 +21,6 @@ from gaitgram.backends.mujoco_horse.task import (
 )
 from gaitgram.backends.registry import BackendSpec
 
-CATALOGUE = load_catalogue(files(__name__).joinpath("joints.toml"))
 #: What a viable gait's evaluation reports (evaluator.py's ``_judge``; a test keeps them equal).
 COMPONENTS = WEIGHT_NAMES | {
     "measured_velocity",
@@ -50,7 +49,7 @@ def check_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
 
 def scored_components(settings: Mapping[str, Any]) -> tuple[str, ...]:
     """The components the fitness weighs (the frequency is measured, but not scored by default)."""
-    weights = settings.get("weights") or DEFAULT_WEIGHTS
+    weights = weights_in_force(None, settings.get("weights"))
     return tuple(name for name in DEFAULT_WEIGHTS if weights.get(name, 0.0) > 0)
 
 
@@ -76,7 +75,7 @@ BACKEND = BackendSpec(
     runtime_settings=frozenset({"threads"}),
     version=_version(),
     unviable_fitness=lambda settings, weights: unviable_fitness(
-        weights or settings.get("weights") or DEFAULT_WEIGHTS
+        weights_in_force(weights, settings.get("weights"))
     ),
     cycle_frequencies=CYCLE_FREQUENCIES,
     objectives=scored_components,

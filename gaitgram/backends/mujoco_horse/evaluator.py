@@ -54,9 +54,8 @@ from gaitgram.backends.mujoco_horse.measures import (
     window,
 )
 from gaitgram.backends.mujoco_horse.model import STATE_SPEC, HorseLayout, horse_layout, load_model
-from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles
+from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles, weights_in_force
 from gaitgram.backends.mujoco_horse.task import (
-    DEFAULT_WEIGHTS,
     WALK_TERMS,
     GaitTargets,
     fitness_components,
@@ -377,7 +376,7 @@ class HorseEvaluator:
         results: dict[int, Evaluation] = unusable_evaluations(batch)
         rows = np.array([g for g in range(len(batch)) if g not in results], dtype=np.intp)
         if len(rows):
-            active = weights or self.settings.weights or DEFAULT_WEIGHTS
+            active = weights_in_force(weights, self.settings.weights)
             for row, evaluation in zip(
                 rows, self.evaluate_rows(batch, rows, active, cycles=cycles), strict=True
             ):

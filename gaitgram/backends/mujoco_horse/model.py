@@ -22,7 +22,7 @@ import mujoco
 import numpy as np
 
 from gaitgram.backends.catalogue import JointCatalogue
-from gaitgram.backends.mujoco_horse import CATALOGUE
+from gaitgram.backends.mujoco_horse.joints import CATALOGUE
 
 #: The four limbs, named as the suffix of their joints (``hip_hind_left``), in the
 #: walk's lateral footfall sequence: hind left, fore left, hind right, fore right.

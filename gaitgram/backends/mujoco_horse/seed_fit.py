@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from gaitgram.backends.mujoco_horse import CATALOGUE
+from gaitgram.backends.mujoco_horse.joints import CATALOGUE
 from gaitgram.backends.mujoco_horse.model import horse_layout, joint_name, load_model
 from gaitgram.extras import require
 from gaitgram.seed.data import SeedCurves

@@ -86,6 +86,14 @@ class HorseSettings:
 MIN_WARMUP_CYCLES = 2
 
 
+def weights_in_force(
+    given: Mapping[str, float] | None, settings: Mapping[str, float] | None
+) -> Mapping[str, float]:
+    """The fitness weights that score a gait: those given for the generation (a weight schedule's
+    stage), else the run's ``weights`` setting, else the backend's defaults."""
+    return given or settings or DEFAULT_WEIGHTS
+
+
 def warmup_cycles(seconds: float, frequency: float) -> int:
     """Whole cycles of a gait at ``frequency`` (Hz) that last at least ``seconds``, and at least
     :data:`MIN_WARMUP_CYCLES`."""

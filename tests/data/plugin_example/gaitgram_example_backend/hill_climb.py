@@ -11,10 +11,10 @@ from collections.abc import Mapping
 from typing import Any
 
 from gaitgram.backends.api import SettingsError
-from gaitgram.evolution.engine import RunState, elites_of, initial_genomes
 from gaitgram.ge.operators import int_flip_mutation
 from gaitgram.pipeline import Individual, Pipeline
-from gaitgram.strategies.api import Genome, RunContext, Strategy, StrategyError
+from gaitgram.strategies.api import Genome, RunContext, RunState, Strategy, StrategyError, elites_of
+from gaitgram.strategies.common import initial_genomes
 from gaitgram.strategies.registry import StrategySpec
 
 
