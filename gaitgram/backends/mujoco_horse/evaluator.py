@@ -135,9 +135,11 @@ class HorseEvaluator:
         *,
         chunk_steps: int | None = None,
         group_size: int = GROUP_SIZE,
+        model: mujoco.MjModel | None = None,
     ) -> None:
         self.settings = settings or HorseSettings()
-        self.model = load_model()
+        #: The horse's model, or a variant of its world (another floor: ``robustness.py``).
+        self.model = load_model() if model is None else model
         self.layout: HorseLayout = horse_layout()
         self.targets: GaitTargets = walk_targets(self.settings.froude, self.layout.hip_height)
         self.threads = self.settings.threads or os.cpu_count() or 1
@@ -303,11 +305,14 @@ class HorseEvaluator:
 
     # ---- simulation -------------------------------------------------------------------
 
-    def simulate(self, control: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def simulate(
+        self, control: np.ndarray, forces: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """The raw full-length ``mujoco.rollout`` of control arrays [gaits, steps, actuators]:
         states (``STATE_SPEC``) and sensors [gaits, steps, ...], no gait dropped. ``evaluate`` does
         not use it; it is the reference that chunked evaluation is bit-identical to, and the
-        benchmark's ceiling."""
+        benchmark's ceiling. ``forces`` [gaits, steps, nbody * 6] are applied to the bodies
+        (``xfrc_applied``: a push)."""
         if self._pool is None:
             self._pool = rollout.Rollout(nthread=self.threads)
             self._datas = [mujoco.MjData(self.model) for _ in range(self.threads)]
@@ -315,9 +320,21 @@ class HorseEvaluator:
         nstate = mujoco.mj_stateSize(self.model, STATE_SPEC)
         state = np.empty((size, steps, nstate))
         sensors = np.empty((size, steps, self.model.nsensordata))
-        self._pool.rollout(
-            self.model, self._datas, self.initial_state[None, :], control, state=state, sensordata=sensors
-        )
+        if forces is None:
+            self._pool.rollout(
+                self.model, self._datas, self.initial_state[None, :], control, state=state, sensordata=sensors
+            )
+        else:
+            spec = mujoco.mjtState.mjSTATE_CTRL | mujoco.mjtState.mjSTATE_XFRC_APPLIED
+            self._pool.rollout(
+                self.model,
+                self._datas,
+                self.initial_state[None, :],
+                np.concatenate([control, forces], axis=2),
+                control_spec=int(spec),
+                state=state,
+                sensordata=sensors,
+            )
         return state, sensors
 
     def _simulator(self) -> mjbatch.Batch:

@@ -34,10 +34,19 @@ STATE_SPEC = mujoco.mjtState.mjSTATE_FULLPHYSICS
 _XML = "horse.xml"
 
 
+def _xml() -> str:
+    return files(__package__).joinpath(_XML).read_text(encoding="utf-8")
+
+
 @cache
 def _master_model() -> mujoco.MjModel:
-    xml = files(__package__).joinpath(_XML).read_text(encoding="utf-8")
-    return mujoco.MjModel.from_xml_string(xml)
+    return mujoco.MjModel.from_xml_string(_xml())
+
+
+def master_spec() -> mujoco.MjSpec:
+    """The horse as an editable spec (MuJoCo's model editing): for variants of its world, such
+    as another floor, compiled from the one ``horse.xml``."""
+    return mujoco.MjSpec.from_string(_xml())
 
 
 def load_model() -> mujoco.MjModel:

@@ -1,0 +1,161 @@
+"""Disturbances: does a gait stay upright and walking when pushed, or on uneven ground?
+
+A walk that falls at the first disturbance is not a walk anyone can use. These trials are run on
+the gaits a study hands back (``gaitgram report``), not inside the fitness. Each plays the gait
+from the standing horse to the horizon (``horizon_cycles``), as the check of a kept gait does,
+under one disturbance:
+
+* **a push**: a fore-aft force on the trunk of :data:`PUSH_SHARE` of the body's weight for
+  :data:`PUSH_SECONDS`, forward or backward, at the left hind's mid-stance of the first cycle
+  after the warm-up: an impulse of 0.2 x 500 kg x 9.81 m/s^2 x 0.1 s = 98 N s, a change of speed
+  of about 0.2 m/s (an eighth of a walk's), the size of a stumble or a bump from another horse;
+* **bumps**: the floor a height field of random heights up to :data:`BUMP_HEIGHT` (uniform,
+  cells of :data:`BUMP_CELL`), flat under the standing horse and for :data:`FLAT_START` ahead,
+  seeded: uneven turf under a 14 cm hoof.
+
+A gait **holds** under a disturbance when it stays upright for the whole horizon and is a walk
+by criterion v2 (every term but ``steady`` and ``sustained``, per cycle) over the horizon's last
+:data:`RECOVERY_CYCLES` cycles: it may stumble, but it must be walking again. The sizes are
+gaitgram's choice, stated here and in ``docs/fitness.md``; no published perturbation standard
+for simulated horses was found.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import cache
+
+import mujoco
+import numpy as np
+
+from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
+from gaitgram.backends.mujoco_horse.measures import cycle_edges, measure_cycles
+from gaitgram.backends.mujoco_horse.model import master_spec
+from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles
+from gaitgram.backends.mujoco_horse.task import walk_terms
+from gaitgram.motion.gait import MotionBatch
+
+PUSH_SHARE = 0.2
+PUSH_SECONDS = 0.1
+BUMP_HEIGHT = 0.02  # m
+BUMP_CELL = 0.1  # m
+FLAT_START = 1.0  # m ahead of the standing horse, and all of it behind
+BUMP_LENGTH = 60.0  # m of floor ahead: more than the longest walk over a horizon
+BUMP_SEED = 26
+RECOVERY_CYCLES = 5
+#: The walk terms a disturbed gait must hold again; ``steady`` and ``sustained`` describe an
+#: undisturbed gait.
+RECOVERED_TERMS = ("speed", "duty_factor", "footfalls", "stride_length", "stride_frequency", "trunk")
+
+
+@dataclass(frozen=True)
+class Disturbance:
+    name: str
+    describe: str
+
+
+DISTURBANCES: tuple[Disturbance, ...] = (
+    Disturbance("push-forward", f"a forward push of {PUSH_SHARE:.0%} of body weight for {PUSH_SECONDS} s"),
+    Disturbance("push-backward", f"a backward push of {PUSH_SHARE:.0%} of body weight for {PUSH_SECONDS} s"),
+    Disturbance("bumps", f"a floor of random bumps up to {BUMP_HEIGHT * 100:.0f} cm (seed {BUMP_SEED})"),
+)
+
+
+@dataclass(frozen=True)
+class Trial:
+    """How one gait fared under one disturbance."""
+
+    disturbance: str
+    upright: bool
+    walking: bool  # walking again over the last cycles of the horizon
+    detail: str | None = None
+
+    @property
+    def holds(self) -> bool:
+        return self.upright and self.walking
+
+
+def disturbed(
+    settings: Mapping[str, object],
+    batch: MotionBatch,
+    disturbance: str,
+    weights: Mapping[str, float] | None = None,
+) -> list[Trial]:
+    """Every gait of ``batch`` played to the horizon under ``disturbance`` (a name in
+    :data:`DISTURBANCES`), with the backend settings of the run it came from."""
+    names = [d.name for d in DISTURBANCES]
+    if disturbance not in names:
+        raise ValueError(f"no disturbance named {disturbance!r}; known: {', '.join(names)}")
+    horse = HorseSettings.from_mapping(settings)
+    evaluator = HorseEvaluator(horse, model=_bumpy_model() if disturbance == "bumps" else None)
+    try:
+        rows = np.arange(len(batch))
+        control = evaluator.controls(batch, rows, evaluator.horizon)
+        forces = (
+            _push(evaluator, batch, disturbance, control.shape[1]) if disturbance.startswith("push") else None
+        )
+        state, sensors = evaluator.simulate(control, forces)
+        frequencies = evaluator.frequencies(batch, rows)
+        scored = evaluator.score(state, sensors, control, weights or {}, frequencies, evaluator.horizon)
+        recordings = evaluator.recordings(state, sensors, control, frequencies)
+    finally:
+        evaluator.close()
+    trials = []
+    for evaluation, recording in zip(scored, recordings, strict=True):
+        if not evaluation.status.viable:
+            trials.append(Trial(disturbance, False, False, evaluation.detail))
+            continue
+        last = measure_cycles(
+            recording, evaluator.horizon - RECOVERY_CYCLES, evaluator.horizon, evaluator.gap_steps
+        )
+        terms = walk_terms(last, evaluator.targets)
+        failed = [t for t in RECOVERED_TERMS if not terms[t]]
+        trials.append(
+            Trial(
+                disturbance, True, not failed, f"not walking again: {', '.join(failed)}" if failed else None
+            )
+        )
+    return trials
+
+
+def _push(evaluator: HorseEvaluator, batch: MotionBatch, disturbance: str, steps: int) -> np.ndarray:
+    """Applied forces [gaits, steps, nbody * 6]: the push on the trunk, per gait at the left hind's
+    mid-stance (phase 0.3) of its first cycle after the warm-up."""
+    model = evaluator.model
+    forces = np.zeros((len(batch), steps, model.nbody * 6))
+    size = PUSH_SHARE * evaluator.layout.total_mass * -model.opt.gravity[2]
+    sign = 1.0 if disturbance == "push-forward" else -1.0
+    duration = round(PUSH_SECONDS / evaluator.dt)
+    trunk = evaluator.layout.trunk_body
+    for g, frequency in enumerate(evaluator.frequencies(batch, np.arange(len(batch)))):
+        warmup = warmup_cycles(evaluator.settings.warmup_seconds, frequency)
+        edges = cycle_edges(frequency, evaluator.dt, evaluator.ramp_steps, warmup + 1)
+        start = int(edges[warmup] + round(0.3 / (frequency * evaluator.dt)))
+        forces[g, start : start + duration, trunk * 6] = sign * size  # x of the force, world frame
+    return forces
+
+
+@cache
+def _bumpy_model() -> mujoco.MjModel:
+    """The horse on a floor of seeded random bumps, flat where it stands and just ahead."""
+    spec = master_spec()
+    rng = np.random.default_rng(BUMP_SEED)
+    behind = 10.0  # m of floor behind the standing horse
+    half_length, half_width = (BUMP_LENGTH + behind) / 2, 2.0
+    ncol, nrow = round(2 * half_length / BUMP_CELL) + 1, round(2 * half_width / BUMP_CELL) + 1
+    centre = half_length - behind
+    x = centre + np.linspace(-half_length, half_length, ncol)
+    heights = rng.uniform(0.0, 1.0, size=(nrow, ncol))
+    heights[:, x < FLAT_START] = 0.0
+    heights[0, -1] = 1.0  # the scale is the bumps' full height, whatever the draw
+    field = spec.add_hfield()
+    field.name = "bumps"
+    field.nrow, field.ncol = nrow, ncol
+    field.size = [half_length, half_width, BUMP_HEIGHT, 0.1]
+    field.userdata = heights.ravel().tolist()
+    floor = spec.geom("floor")
+    floor.type = mujoco.mjtGeom.mjGEOM_HFIELD
+    floor.hfieldname = "bumps"
+    floor.pos = [centre, 0, 0]
+    return spec.compile()

@@ -1,0 +1,115 @@
+"""Kept gaits beyond their scores: disturbance trials and the realism distance, on the horse."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from conftest import ROOT
+from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
+from gaitgram.backends.mujoco_horse.joints import CATALOGUE
+from gaitgram.backends.mujoco_horse.realism import CURVES, MEASURES, _scores, assess, real_walks
+from gaitgram.backends.mujoco_horse.robustness import (
+    BUMP_HEIGHT,
+    DISTURBANCES,
+    FLAT_START,
+    PUSH_SECONDS,
+    PUSH_SHARE,
+    _bumpy_model,
+    _push,
+    disturbed,
+)
+from gaitgram.motion.gait import MotionBatch, motion_batch
+from gaitgram.seed import load_seed
+
+CROUCH = dict.fromkeys(CATALOGUE.names, "90")  # every joint flexed to its limit: the horse sinks
+
+
+def seed_and_crouch() -> MotionBatch:
+    seed = load_seed().motion_batch()
+    crouch = motion_batch([CROUCH], seed.joints)
+    return MotionBatch(seed.joints, np.concatenate([seed.angles, crouch.angles]), (None, None), (None, None))
+
+
+@pytest.mark.slow
+def test_the_seed_recovers_from_a_backward_push_and_a_falling_gait_holds_under_nothing() -> None:
+    batch = seed_and_crouch()
+    for disturbance in DISTURBANCES:
+        seed, crouch = disturbed({}, batch, disturbance.name)
+        assert seed.upright, (disturbance.name, seed.detail)  # the seed walk stays up under each
+        assert not crouch.upright
+        assert not crouch.holds
+        assert crouch.detail
+        assert "down to" in crouch.detail
+    (backward, _) = disturbed({}, batch, "push-backward")
+    assert backward.holds, backward.detail
+    again = disturbed({}, batch, "push-backward")
+    assert [(t.upright, t.walking, t.detail) for t in again] == [
+        (t.upright, t.walking, t.detail) for t in disturbed({}, batch, "push-backward")
+    ]  # deterministic
+    with pytest.raises(ValueError, match="no disturbance named 'shove'"):
+        disturbed({}, batch, "shove")
+
+
+def test_a_push_is_a_share_of_body_weight_on_the_trunk_for_a_tenth_of_a_second() -> None:
+    evaluator = HorseEvaluator()
+    batch = load_seed().motion_batch()
+    forces = _push(evaluator, batch, "push-backward", 6000)
+    trunk = evaluator.layout.trunk_body
+    pushed = np.flatnonzero(forces[0, :, trunk * 6])
+    assert len(pushed) == round(PUSH_SECONDS / evaluator.dt)
+    weight = evaluator.layout.total_mass * 9.81
+    assert forces[0, pushed[0], trunk * 6] == pytest.approx(-PUSH_SHARE * weight)
+    assert np.count_nonzero(forces) == len(pushed)  # nothing else pushed
+    assert pushed[0] * evaluator.dt > evaluator.settings.ramp_seconds + 1.5  # after the warm-up
+
+
+def test_the_bumpy_floor_is_flat_where_the_horse_stands_and_bumped_ahead() -> None:
+    model = _bumpy_model()
+    field = model.hfield_data.reshape(model.hfield_nrow[0], model.hfield_ncol[0])
+    assert field.min() == 0.0
+    assert field.max() == pytest.approx(1.0)
+    assert model.hfield_size[0][2] == BUMP_HEIGHT
+    centre = model.geom_pos[0][0]
+    x = centre + np.linspace(-model.hfield_size[0][0], model.hfield_size[0][0], field.shape[1])
+    assert not field[:, x < FLAT_START].any()
+    assert field[:, x > FLAT_START + 1].mean() > 0.3
+
+
+def test_the_realism_distance_is_zero_at_the_real_walks_median() -> None:
+    real = real_walks()
+    assert real == json.loads((ROOT / "seeds" / "dlc_walk.json").read_text())  # shipped copy
+    lands = real["phase_after_left_hind"]
+    measures = {
+        "duty_factor": real["duty_factor"]["median"],
+        "phase_fore_left": lands["LeftFrontHoof"]["median"],
+        "phase_hind_right": lands["RightHindHoof"]["median"],
+        "phase_fore_right": lands["RightFrontHoof"]["median"],
+    }
+    curves = {name: np.array(real["curves"][name]["mean"]) for name in CURVES}
+    assert _scores(measures, curves) == dict.fromkeys(MEASURES, 0.0)
+    low, high = real["duty_factor"]["iqr"]
+    at_quartile = _scores({**measures, "duty_factor": high}, curves)
+    assert at_quartile["duty_factor"] == pytest.approx(
+        1.349 * (high - real["duty_factor"]["median"]) / (high - low)
+    )
+    shifted = {
+        **curves,
+        "fetlock_fore": curves["fetlock_fore"] + np.array(real["curves"]["fetlock_fore"]["sd"]),
+    }
+    assert _scores(measures, shifted)["fetlock_fore"] == pytest.approx(1.0)
+
+
+def test_the_seed_is_measured_beside_the_real_walks() -> None:
+    (seed, crouch) = assess({}, seed_and_crouch())
+    assert crouch is None  # falls: nothing to measure
+    assert seed is not None
+    assert set(seed.scores) == set(MEASURES)
+    assert seed.scores["duty_factor"] < 0.5  # 0.58 against the real 0.588
+    assert seed.scores["phase_hind_right"] < 0.5
+    assert 0 < seed.distance < 2
+    for name in CURVES:
+        assert seed.curves[name].shape == (20,)
+        assert np.ptp(seed.curves[name]) > 10  # the limbs swing
