@@ -12,6 +12,12 @@ Three 75-gait populations:
 * evolved: the hybrid grammar's seed walk with each codon flipped at the runs' default mutation
   rate (0.02), a population converged on a walk.
 
+Then every body of ``bodies.toml`` evaluates the evolved population (the same gaits, each at its
+body's target frequency): evaluations/s and the ratio to the horse's, measured in the same run.
+A body's time step and its cycle both scale with the square root of its size (dynamic
+similarity), so every body simulates about the same number of steps for its cycles, and should
+evaluate at about the horse's rate (measured: 0.86-1.00 of it).
+
 All run the same model on the same gaits in the same process, measurements interleaved and the
 best of several taken (the machine's load drifts). The raw figure is ``mujoco.rollout`` of each
 gait's control array for the steps its evaluation would take were it not dropped (building the
@@ -31,6 +37,7 @@ import numpy as np
 from gaitgram.analysis import check
 from gaitgram.backends.api import GaitStatus
 from gaitgram.backends.mujoco_horse import CATALOGUE
+from gaitgram.backends.mujoco_horse.bodies import BODIES
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator, HorseSettings
 from gaitgram.ge import compile_mapper
 from gaitgram.ge.initialisation import ramped_population
@@ -162,4 +169,27 @@ def main() -> None:
         )
     finally:
         for _, evaluator in revisions:
+            evaluator.close()
+    per_body(threads)
+
+
+def per_body(threads: int) -> None:
+    """Evaluations/s of the evolved population on every body, against the horse's in the same run."""
+    batch = evolved()
+    print(f"\n{'body':<10} {'hip m':>6} {'dt ms':>6} {'steps':>7} {'mujoco-horse':>16} {'vs horse':>8}")
+    horse = None
+    for name in BODIES:
+        evaluator = HorseEvaluator(HorseSettings(threads=threads, body=name))
+        try:
+            evaluator.evaluate(batch)  # warm-up
+            before = evaluator.simulated_steps
+            evaluator.evaluate(batch)
+            steps = evaluator.simulated_steps - before
+            rate = len(batch.angles) / min(timed(lambda e=evaluator: e.evaluate(batch)) for _ in range(ROUNDS))
+            horse = horse or rate
+            print(
+                f"{name:<10} {evaluator.layout.hip_height:6.3f} {evaluator.dt * 1e3:6.2f} {steps:7d} "
+                f"{rate:8.1f} evals/s {rate / horse:8.2f}"
+            )
+        finally:
             evaluator.close()

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import difflib
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -181,18 +181,33 @@ class Pipeline:
         return self._scored(genomes, evaluator.evaluate, generation)
 
     def verify(
-        self, genomes: Sequence[Sequence[int]], evaluator: Evaluator, generation: int
+        self,
+        genomes: Sequence[Sequence[int]],
+        evaluator: Evaluator,
+        generation: int,
+        *,
+        played: Callable[[MotionBatch], MotionBatch] | None = None,
     ) -> list[Individual]:
         """As :meth:`evaluate`, checked over the backend's horizon (``VerifyingEvaluator.verify``):
         the same scores, or unviable for a gait that fails within it. The check the gaits a run
-        keeps must pass; a backend whose evaluator cannot verify is trusted with its evaluation."""
+        keeps must pass; a backend whose evaluator cannot verify is trusted with its evaluation.
+        ``played`` turns the motion into what is played (a gait retargeted to another body)."""
         score = evaluator.verify if isinstance(evaluator, VerifyingEvaluator) else evaluator.evaluate
-        return self._scored(genomes, score, generation)
+        return self._scored(genomes, score, generation, played)
 
-    def _scored(self, genomes: Sequence[Sequence[int]], score: Any, generation: int) -> list[Individual]:
+    def _scored(
+        self,
+        genomes: Sequence[Sequence[int]],
+        score: Any,
+        generation: int,
+        played: Callable[[MotionBatch], MotionBatch] | None = None,
+    ) -> list[Individual]:
         mapped = self.map(genomes)
+        motion = self.motion(mapped, generation)
         evaluations = score(
-            self.motion(mapped, generation), generation=generation, weights=self.weights_at(generation)
+            motion if played is None else played(motion),
+            generation=generation,
+            weights=self.weights_at(generation),
         )
         if len(evaluations) != len(genomes):
             raise PipelineError(

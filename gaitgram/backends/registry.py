@@ -76,6 +76,12 @@ class BackendSpec:
     * ``verdict`` declares a yes/no judgement of each gait (``mujoco-horse``: "is it
       a walk?") that reports count and ``--walk`` selects by; None: the backend
       judges none.
+    * ``bodies`` names the bodies a gait can be played on (a ``body`` setting),
+      each with a line saying what it is; None: the backend has one.
+    * ``retarget(settings, motion, body, scaling)`` gives the settings and the
+      motion that play gaits evolved under ``settings`` on ``body``: the same
+      curves, their cycle frequency scaled as ``scaling`` (one of
+      ``retarget_scalings``) says; None: gaits cannot change bodies.
     """
 
     name: str
@@ -92,6 +98,9 @@ class BackendSpec:
     descriptors: Mapping[str, tuple[float, float]] | None = None
     components: Callable[[Mapping[str, Any]], frozenset[str]] | None = None
     verdict: Verdict | None = None
+    bodies: Mapping[str, str] | None = None
+    retarget: Callable[[Mapping[str, Any], Any, str, str], tuple[dict[str, Any], Any]] | None = None
+    retarget_scalings: tuple[str, ...] = ()
 
     def checked_settings(self, settings: Mapping[str, Any]) -> dict[str, Any]:
         """``settings`` checked and normalised; :class:`SettingsError` names the bad key."""

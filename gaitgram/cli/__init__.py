@@ -20,6 +20,7 @@ from gaitgram.cli import (
     plot,
     render,
     report,
+    retarget,
     sample,
     seed,
     stdout,
@@ -46,6 +47,7 @@ app.command("study")(study.command)
 app.command("report")(report.command)
 app.command("evaluate")(evaluate.command)
 app.command("render")(render.command)
+app.command("retarget")(retarget.command)
 app.add_typer(seed.app, name="seed")
 app.command("plot")(plot.command)
 app.command("test")(test.command)

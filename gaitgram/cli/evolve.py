@@ -21,6 +21,7 @@ from gaitgram.evolution.config import ConfigError, RunConfig, load_config, with_
 from gaitgram.evolution.distributed import ClusterError, DaskEvaluator, connect
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
 from gaitgram.evolution.session import run_session, stop_on_interrupt
+from gaitgram.evolution.transfer import TransferError, start_genomes
 from gaitgram.extras import MissingExtra
 from gaitgram.fileio import DirectoryInUse, DirectoryLock
 from gaitgram.language.source import SourceError, read_source
@@ -29,7 +30,7 @@ from gaitgram.strategies.api import GenerationStats, StrategyError
 from gaitgram.strategies.registry import load_strategy, run_pipeline
 
 #: What makes a run refused before it starts (exit 2).
-_INPUT_ERRORS = (ConfigError, PipelineError, RunDirectoryError, CheckpointError)
+_INPUT_ERRORS = (ConfigError, PipelineError, RunDirectoryError, CheckpointError, TransferError)
 
 
 def fail(message: str, code: int = 2) -> typer.Exit:
@@ -68,6 +69,14 @@ def command(
         int | None,
         typer.Option(min=1, help="Simulation threads, for backends that use them (default: all cores)."),
     ] = None,
+    start_from: Annotated[
+        Path | None,
+        typer.Option(
+            help="Start from this finished run's final population (the same grammar; run i from its "
+            "run i): a horse's run, for example, with body = \"draft\" in the --config file's "
+            "[backend_settings]."
+        ),
+    ] = None,
     out: Annotated[
         Path | None,
         typer.Option("--out", "-o", help="A new run directory (default runs/GRAMMAR-seedSEED)."),
@@ -98,6 +107,7 @@ def command(
     flags = {"generations": generations, "population": population, "runs": runs, "seed": seed}
     flags["backend"] = backend
     flags["strategy"] = strategy
+    flags["start_from"] = None if start_from is None else str(start_from.resolve())
     given = {k: v for k, v in flags.items() if v is not None}
     with contextlib.ExitStack() as held:  # the run directory's lock and the evaluator, until the end
         try:
@@ -117,6 +127,8 @@ def command(
                     out = Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}"
                     RunDirectory.check_new(out)
                 load_strategy(pipeline)  # its library is installed, before anything is written
+                for run in range(pipeline.config.runs):  # every run's start is there and finished
+                    start_genomes(pipeline, run)
             # Everything is checked and the backend loaded before a new run directory is made.
             evaluator = _evaluator(pipeline, _runtime(pipeline, threads), scheduler, dask_local)
             held.callback(evaluator.close)

@@ -70,10 +70,11 @@ def command(
         str | None,
         typer.Option(
             "--compare",
-            metavar="seed|DIR",
+            metavar="seed|BODY|DIR",
             help="Show a second gait beside this one, in step: 'seed' (the bundled walk seed, on the "
-            "same horse and settings) or a run directory (its best gait, through its own pipeline; "
-            "./seed for a directory named seed).",
+            "same horse and settings), a body (the same gait on it, its frequency scaled by dynamic "
+            "similarity: shetland, pony, horse, draft) or a run directory (its best gait, through its "
+            "own pipeline; ./seed or ./draft for a directory of that name).",
         ),
     ] = None,
     strip: Annotated[
@@ -120,7 +121,8 @@ def command(
             defines=defines,
             walk=walk,
         )
-        other = None if compare in (None, SEED) else _best_of(Path(compare))
+        body = compare if compare in (chosen.pipeline.spec.bodies or {}) else None
+        other = None if compare in (None, SEED) or body is not None else _best_of(Path(compare))
     except SelectionError as error:
         raise fail(str(error)) from None
     for gait in (chosen, other):
@@ -128,7 +130,12 @@ def command(
             backend = gait.pipeline.backend
             raise fail(f"render draws the mujoco-horse backend; {gait.describe} is scored by {backend!r}")
     shown = _Gait.of(chosen)
-    beside = None if compare is None else _Gait.of(other) if other is not None else _Gait.seed(chosen)
+    if compare is None:
+        beside = None
+    elif body is not None:
+        beside = shown.on(body, chosen)
+    else:
+        beside = _Gait.of(other) if other is not None else _Gait.seed(chosen)
 
     from gaitgram.backends.mujoco_horse.render import (
         animation_format,
@@ -200,6 +207,16 @@ class _Gait:
         from gaitgram.seed import load_seed
 
         return cls(load_seed().motion_batch(), _evaluator(chosen), "walk seed")
+
+    def on(self, body: str, chosen: SelectedGait) -> _Gait:
+        """This gait on ``body``, its cycle frequency scaled by dynamic similarity."""
+        from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
+        from gaitgram.backends.mujoco_horse.retarget import retarget
+        from gaitgram.backends.mujoco_horse.settings import HorseSettings
+
+        settings, batch = retarget(chosen.pipeline.config.backend_settings, self.batch, body, "froude")
+        evaluator = HorseEvaluator(HorseSettings.from_mapping({**settings, "threads": 1}))
+        return _Gait(batch, evaluator, f"on {body} (Froude-scaled)")
 
     def frames(self, fps: int) -> list[np.ndarray]:
         import numpy as np

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 import tomllib
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, replace
@@ -79,6 +80,9 @@ class RunConfig:
     #: The search strategy (docs/strategies.md) and its settings; GE's loop by default.
     strategy: str = "ge"
     strategy_settings: Mapping[str, Any] = field(default_factory=dict)
+    #: A run directory (or a study's arm) whose final population the first generation starts
+    #: from, instead of random trees: a gait transferred to another body (seeded transfer).
+    start_from: str | None = None
 
     def __post_init__(self) -> None:
         for key, (low, high) in LIMITS.items():
@@ -227,6 +231,8 @@ def load_config(path: Path | None, overrides: Mapping[str, Any] | None = None) -
         if key not in _FIELDS:
             raise ConfigError(f"{where}: unknown key {key!r}{_suggest(key, _FIELDS)}")
         values[key] = value
+    if path is not None and isinstance(values.get("start_from"), str):  # relative to the file
+        values["start_from"] = os.path.abspath(path.parent / values["start_from"])
     flags = {k: v for k, v in (overrides or {}).items() if v is not None}
     for key, value in flags.items():
         if key in ("backend_settings", "strategy_settings"):  # flags add to the file's table
@@ -283,7 +289,7 @@ def _check_finite(value: Any, where: str) -> None:
 
 def _typed(key: str, value: Any, where: str) -> Any:
     default = getattr(RunConfig(), key)
-    if key in ("max_depth", "backend") and value is None:
+    if key in ("max_depth", "backend", "start_from") and value is None:
         return None
     expected: type = type(default) if default is not None else (int if key == "max_depth" else str)
     if expected is float and isinstance(value, int) and not isinstance(value, bool):
@@ -293,7 +299,7 @@ def _typed(key: str, value: Any, where: str) -> Any:
         raise ConfigError(f"{where}: {key}: must be {article} {expected.__name__}, not {value!r}")
     if isinstance(value, float) and not math.isfinite(value):
         raise ConfigError(f"{where}: {key}: must be a finite number, not {value}")
-    if key in ("backend", "strategy") and not value.strip():
+    if key in ("backend", "strategy", "start_from") and not value.strip():
         raise ConfigError(f"{where}: {key}: must name a {key}, not an empty string")
     return value
 

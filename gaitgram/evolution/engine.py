@@ -10,7 +10,8 @@ what a strategy would keep over the backend's horizon before it is told (:func:`
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -19,7 +20,7 @@ from gaitgram.backends.api import Evaluator, VerifyingEvaluator
 from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint, save_checkpoint
 from gaitgram.evolution.records import record_text, run_records
 from gaitgram.fileio import write_atomically
-from gaitgram.pipeline import Individual, Pipeline
+from gaitgram.pipeline import Genome, Individual, Pipeline
 from gaitgram.strategies.api import (
     GenerationStats,
     RunContext,
@@ -157,13 +158,15 @@ def run_evolution(
     resume: bool = False,
     on_generation: Callable[[int, GenerationStats], None] | None = None,
     should_stop: Callable[[], bool] = lambda: False,
+    start: Sequence[Genome] = (),
 ) -> RunState:
     """One run of the config's strategy, checkpointed to ``run_dir`` after every generation; stops
     early if asked. A checkpoint under one of ``earlier_fingerprints`` (the same run, as an older
-    gaitgram fingerprinted it) resumes too; what is saved carries ``fingerprint``."""
+    gaitgram fingerprinted it) resumes too; what is saved carries ``fingerprint``. ``start``: the
+    genomes a new run's first generation starts from (``start_from``), if any."""
     config = pipeline.config
     strategy = load_strategy(pipeline)
-    context = run_context(pipeline, run)
+    context = replace(run_context(pipeline, run), start=tuple(start))
     checkpoint = run_dir / "checkpoint.json"
 
     def record(state: RunState) -> None:

@@ -76,6 +76,9 @@ def identity(pipeline: Pipeline, defines: Mapping[str, int], *, with_runs: bool 
     meaning = config.as_dict()
     if not with_runs:
         del meaning["runs"]
+    # Where a run started is recorded in config.toml, not in its meaning: the source is absolute
+    # and may move with the directories, and a run's first generation is in its own checkpoint.
+    meaning.pop("start_from", None)
     meaning["backend_settings"] = settings
     meaning["weight_schedule"] = [
         {"start": s.start, "weights": dict(s.weights)} for s in config.weight_schedule

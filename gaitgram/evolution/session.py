@@ -13,6 +13,7 @@ from gaitgram import jsonio
 from gaitgram.backends.api import Evaluator
 from gaitgram.evolution.engine import run_evolution
 from gaitgram.evolution.rundir import RunDirectory
+from gaitgram.evolution.transfer import start_genomes
 from gaitgram.fileio import write_atomically
 from gaitgram.strategies.api import GenerationStats, RunState
 
@@ -44,6 +45,9 @@ def run_session(
             resume=resume,
             on_generation=on_generation,
             should_stop=should_stop,
+            start=()
+            if resume and directory.checkpoints[run].exists()
+            else start_genomes(directory.pipeline, run),
         )
         if resume and state.generation == config.generations:
             for name in directory.restore_records(run):

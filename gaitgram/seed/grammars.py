@@ -19,7 +19,7 @@ import numpy as np
 from gaitgram.analysis.cfg import RuleKind, build_cfg
 from gaitgram.backends.catalogue import JointCatalogue
 from gaitgram.backends.mujoco_horse import CATALOGUE
-from gaitgram.backends.mujoco_horse.settings import NOMINAL_HIP_HEIGHT
+from gaitgram.backends.mujoco_horse.bodies import NOMINAL_HIP_HEIGHT
 from gaitgram.backends.mujoco_horse.task import DEFAULT_FROUDE, walk_targets
 from gaitgram.language.model import Grammar
 from gaitgram.language.ranges import parse_range

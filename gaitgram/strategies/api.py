@@ -122,6 +122,9 @@ class RunContext:
     run: int
     #: The run's seed; a library's generators come from :meth:`generator` and :meth:`integer_seed`.
     seed: np.random.SeedSequence
+    #: Genomes the first generation starts from (another run's final population), for a strategy
+    #: that ``takes_start``; empty: its own.
+    start: tuple[Genome, ...] = ()
 
     @property
     def settings(self) -> dict[str, Any]:

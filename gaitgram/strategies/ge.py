@@ -21,6 +21,8 @@ from gaitgram.strategies.registry import StrategySpec
 class GrammaticalEvolution(Strategy):
     def ask(self, context: RunContext, state: RunState) -> list[Genome]:
         if state.generation < 0:
+            if context.start:
+                return list(context.start)
             return initial_genomes(context.pipeline, state.rng, context.pipeline.config.population)
         return offspring(state, context.pipeline)
 
@@ -61,4 +63,5 @@ STRATEGY = StrategySpec(
     summary="Grammatical evolution: tournaments, one-point crossover, int-flip mutation, elitism.",
     load=GrammaticalEvolution,
     check=check,
+    takes_start=True,
 )

@@ -50,6 +50,8 @@ class StrategySpec:
       the strategy cannot search. Cheap: no library.
     * ``version`` changes whenever the same run could come out differently (the strategy's code,
       its library's release); a run is not resumed under another.
+    * ``takes_start`` says that the strategy's first generation can be another run's final
+      population (``start_from``, :attr:`RunContext.start`), not only its own random trees.
     """
 
     name: str
@@ -57,6 +59,7 @@ class StrategySpec:
     load: Callable[[], Strategy]
     check: Callable[[Pipeline], Mapping[str, Any]] | None = None
     version: str = ""
+    takes_start: bool = False
 
 
 class StrategyNotFound(PluginNotFound):
@@ -105,6 +108,12 @@ def run_pipeline(checked: CheckResult, config: RunConfig) -> Pipeline:
         raise PipelineError(f"strategy: {error}") from None
     except StrategyLoadError as error:
         raise PipelineError(str(error)) from None
+    if config.start_from is not None and not strategy.takes_start:
+        starters = [name for name in strategy_names() if get_strategy(name).takes_start]
+        raise PipelineError(
+            f"start_from: strategy {config.strategy} starts from its own first generation; the ones "
+            f"that start from another run's population: {', '.join(starters) or 'none'}"
+        )
     if strategy.check is None:
         return pipeline
     try:

@@ -45,6 +45,7 @@ from gaitgram.evolution.distributed import DaskCluster, import_distributed
 from gaitgram.evolution.engine import run_evolution
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, fingerprint
 from gaitgram.evolution.session import summary
+from gaitgram.evolution.transfer import start_genomes
 from gaitgram.extras import MissingExtra
 from gaitgram.fileio import (
     LOCK_FILE,
@@ -270,6 +271,7 @@ def run_task(arm_path: str, expected: str, runs: int, run: int, threads: int, st
         return TaskResult(name, run, -1, False)
     thread = threading.get_ident()
     directory = _opened(arm_path, expected, runs, thread)
+    fresh = not (directory.run_dir(run) / "checkpoint.json").exists()
     state = run_evolution(
         directory.pipeline,
         _evaluator(arm_path, expected, runs, threads, thread),
@@ -279,6 +281,7 @@ def run_task(arm_path: str, expected: str, runs: int, run: int, threads: int, st
         earlier_fingerprints=directory.earlier_fingerprints,
         resume=True,
         should_stop=lambda: os.path.exists(stop_file),
+        start=start_genomes(directory.pipeline, run) if fresh else (),
     )
     return TaskResult(name, run, state.generation, state.generation == directory.config.generations)
 

@@ -34,6 +34,7 @@ arm, or the flag when only the flag makes it wrong.
 from __future__ import annotations
 
 import difflib
+import os
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -43,6 +44,7 @@ from typing import Any
 from gaitgram.diagnostics import TextEdit
 from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, read_toml
 from gaitgram.evolution.rundir import build_pipeline
+from gaitgram.evolution.transfer import TransferError, start_genomes
 from gaitgram.language import parse
 from gaitgram.language.edits import apply_edits
 from gaitgram.language.source import SourceError, SourceText, read_source
@@ -182,6 +184,8 @@ def _arm(
         **_config_file(data.get("config"), base, label),
         **_table(data, "settings", label, "[arm.settings]"),
     }
+    if isinstance(own.get("start_from"), str):  # relative to the study file, as the grammar is
+        own["start_from"] = os.path.abspath(base / own["start_from"])
     if strategy is not None and own.get("strategy", strategy) != strategy:
         raise StudyError(
             f"{label}: strategy is {strategy!r}, but the arm's settings say {own['strategy']!r}; give it once"
@@ -205,6 +209,11 @@ def _arm(
         if scale.population is not None:
             _scale_population(values, scale.population)
         config, pipeline = _build(values, source, defines, blame)
+    for run in range(runs):  # every source run there and finished, before anything runs
+        try:
+            start_genomes(pipeline, run)
+        except TransferError as error:
+            raise StudyError(f"{label}: {error}") from None
     return Arm(name, path, config.strategy, config, dict(defines), pipeline)
 
 

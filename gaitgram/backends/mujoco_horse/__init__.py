@@ -10,6 +10,7 @@ from importlib.resources import files
 from typing import Any
 
 from gaitgram.backends.api import Verdict
+from gaitgram.backends.mujoco_horse.bodies import BODIES, SCALINGS
 from gaitgram.backends.mujoco_horse.joints import CATALOGUE
 from gaitgram.backends.mujoco_horse.settings import WEIGHT_NAMES, HorseSettings, weights_in_force
 from gaitgram.backends.mujoco_horse.task import (
@@ -40,6 +41,13 @@ def load(settings: Mapping[str, Any] | None = None) -> Any:
     from gaitgram.backends.mujoco_horse.evaluator import load as load_evaluator
 
     return load_evaluator(settings)
+
+
+def retarget(settings: Mapping[str, Any], motion: Any, body: str, scaling: str) -> tuple[dict[str, Any], Any]:
+    """Import MuJoCo only to play gaits on another body (it measures each body's hip height)."""
+    from gaitgram.backends.mujoco_horse.retarget import retarget as play_on
+
+    return play_on(settings, motion, body, scaling)
 
 
 def check_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
@@ -83,4 +91,7 @@ BACKEND = BackendSpec(
     descriptors={"measured_velocity": (0.0, 3.0), "measured_duty_factor": (0.3, 0.9)},
     verdict=Verdict("walk", "walk", WALK_COMPONENTS, "walk_sustained"),
     components=lambda settings: COMPONENTS,
+    bodies={name: body.summary for name, body in BODIES.items()},
+    retarget=retarget,
+    retarget_scalings=SCALINGS,
 )

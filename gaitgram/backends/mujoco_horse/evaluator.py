@@ -139,8 +139,8 @@ class HorseEvaluator:
     ) -> None:
         self.settings = settings or HorseSettings()
         #: The horse's model, or a variant of its world (another floor: ``robustness.py``).
-        self.model = load_model() if model is None else model
-        self.layout: HorseLayout = horse_layout()
+        self.model = load_model(self.settings.body) if model is None else model
+        self.layout: HorseLayout = horse_layout(self.settings.body)
         self.targets: GaitTargets = walk_targets(self.settings.froude, self.layout.hip_height)
         self.threads = self.settings.threads or os.cpu_count() or 1
         self.dt = self.model.opt.timestep

@@ -22,7 +22,9 @@ import mujoco
 import numpy as np
 
 from gaitgram.backends.catalogue import JointCatalogue
+from gaitgram.backends.mujoco_horse.bodies import body_named
 from gaitgram.backends.mujoco_horse.joints import CATALOGUE
+from gaitgram.backends.mujoco_horse.scaling import scaled_spec
 
 #: The four limbs, named as the suffix of their joints (``hip_hind_left``), in the
 #: walk's lateral footfall sequence: hind left, fore left, hind right, fore right.
@@ -39,19 +41,23 @@ def _xml() -> str:
 
 
 @cache
-def _master_model() -> mujoco.MjModel:
-    return mujoco.MjModel.from_xml_string(_xml())
+def _master_model(body: str | None = None) -> mujoco.MjModel:
+    if body_named(body).is_reference:  # horse.xml compiled as it is: its runs' results stay exact
+        return mujoco.MjModel.from_xml_string(_xml())
+    return master_spec(body).compile()
 
 
-def master_spec() -> mujoco.MjSpec:
-    """The horse as an editable spec (MuJoCo's model editing): for variants of its world, such
-    as another floor, compiled from the one ``horse.xml``."""
-    return mujoco.MjSpec.from_string(_xml())
+def master_spec(body: str | None = None) -> mujoco.MjSpec:
+    """A body (the horse by default) as an editable spec, MuJoCo's model editing: for variants of
+    its world, such as another floor. Every body is built from the one ``horse.xml``
+    (:mod:`~gaitgram.backends.mujoco_horse.scaling`); raises :class:`UnknownBody`."""
+    return scaled_spec(mujoco.MjSpec.from_string(_xml()), body_named(body))
 
 
-def load_model() -> mujoco.MjModel:
-    """The horse model; a private copy each call (the XML is compiled once per process)."""
-    return copy.copy(_master_model())
+def load_model(body: str | None = None) -> mujoco.MjModel:
+    """A body's model (the horse by default); a private copy each call (each body is compiled
+    once per process)."""
+    return copy.copy(_master_model(body))
 
 
 def _frozen(array: np.ndarray) -> np.ndarray:
@@ -230,6 +236,6 @@ def build_layout(model: mujoco.MjModel, catalogue: JointCatalogue = CATALOGUE) -
 
 
 @cache
-def horse_layout() -> HorseLayout:
-    """The layout of :func:`load_model`'s horse (computed once per process)."""
-    return build_layout(_master_model())
+def horse_layout(body: str | None = None) -> HorseLayout:
+    """The layout of :func:`load_model`'s body (computed once per process and body)."""
+    return build_layout(_master_model(body))

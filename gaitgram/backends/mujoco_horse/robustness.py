@@ -88,7 +88,7 @@ def disturbed(
     if disturbance not in names:
         raise ValueError(f"no disturbance named {disturbance!r}; known: {', '.join(names)}")
     horse = HorseSettings.from_mapping(settings)
-    evaluator = HorseEvaluator(horse, model=_bumpy_model() if disturbance == "bumps" else None)
+    evaluator = HorseEvaluator(horse, model=_bumpy_model(horse.body) if disturbance == "bumps" else None)
     try:
         rows = np.arange(len(batch))
         control = evaluator.controls(batch, rows, evaluator.horizon)
@@ -137,9 +137,10 @@ def _push(evaluator: HorseEvaluator, batch: MotionBatch, disturbance: str, steps
 
 
 @cache
-def _bumpy_model() -> mujoco.MjModel:
-    """The horse on a floor of seeded random bumps, flat where it stands and just ahead."""
-    spec = master_spec()
+def _bumpy_model(body: str | None = None) -> mujoco.MjModel:
+    """A body (the horse by default) on a floor of seeded random bumps, flat where it stands and
+    just ahead."""
+    spec = master_spec(body)
     rng = np.random.default_rng(BUMP_SEED)
     behind = 10.0  # m of floor behind the standing horse
     half_length, half_width = (BUMP_LENGTH + behind) / 2, 2.0

@@ -71,11 +71,12 @@ def _limits(curve: str) -> tuple[float, float]:
     return joint.limits
 
 
-def fit_seed(reference: SeedCurves, path: FootPath = FootPath()) -> SeedCurves:
-    """``reference`` with its limb curves replaced by the nearest ones whose hooves follow ``path``."""
+def fit_seed(reference: SeedCurves, path: FootPath = FootPath(), body: str | None = None) -> SeedCurves:
+    """``reference`` with its limb curves replaced by the nearest ones whose hooves follow ``path``
+    on ``body`` (the horse by default)."""
     angles = dict(reference.angles)
     for limb, curves in CHAINS.items():
-        fitted = _fit_limb(limb, curves, reference, path)
+        fitted = _fit_limb(limb, curves, reference, path, body)
         for i, curve in enumerate(curves):
             angles[curve] = low_pass(fitted[:, i], path.harmonics)
     return SeedCurves(reference.phases, angles)
@@ -89,11 +90,13 @@ def low_pass(curve: np.ndarray, harmonics: int) -> np.ndarray:
     return np.fft.irfft(spectrum, n=len(curve))
 
 
-def _fit_limb(limb: str, curves: tuple[str, ...], reference: SeedCurves, path: FootPath) -> np.ndarray:
+def _fit_limb(
+    limb: str, curves: tuple[str, ...], reference: SeedCurves, path: FootPath, body: str | None
+) -> np.ndarray:
     """Joint angles [phases, curves] (degrees) of one limb chain, solved phase by phase."""
     optimize = require("scipy.optimize", "fitting the seed")
-    model = load_model()
-    layout = horse_layout()
+    model = load_model(body)
+    layout = horse_layout(body)
     data = mujoco.MjData(model)
     site = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, f"hoof_{limb}")
     qpos = np.array(

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from gaitgram.backends.api import SettingsError
+from gaitgram.backends.mujoco_horse.bodies import UnknownBody, body_named
 from gaitgram.backends.mujoco_horse.task import (
     CYCLE_FREQUENCIES,
     DEFAULT_FROUDE,
@@ -23,8 +24,6 @@ from gaitgram.backends.mujoco_horse.task import (
 
 #: The fitness components a weight may name.
 WEIGHT_NAMES: frozenset[str] = frozenset(DEFAULT_WEIGHTS)
-#: Nominal hip height for sizing a simulation before the model is loaded (the model measures 1.138 m).
-NOMINAL_HIP_HEIGHT = 1.14
 #: Longest simulated time per gait: past this a typo (``cycles = 3000``) would cost hours and gigabytes.
 MAX_SIMULATED_SECONDS = 120.0
 MAX_THREADS = 1024
@@ -51,6 +50,9 @@ class HorseSettings:
     horizon_cycles: int = DEFAULT_HORIZON_CYCLES  # own cycles after the ramp a kept gait is checked over
     threads: int = 0  # 0: all cores
     weights: Mapping[str, float] | None = None
+    #: The body walked (bodies.toml); None is the horse, and is not spelt out in a run's settings,
+    #: so that runs made before bodies existed keep their fingerprints.
+    body: str | None = None
 
     def __post_init__(self) -> None:
         _check(self)
@@ -58,7 +60,16 @@ class HorseSettings:
     @classmethod
     def from_mapping(cls, settings: Mapping[str, Any]) -> HorseSettings:
         """Read a ``[backend_settings]`` table; raises :class:`SettingsError` naming the key."""
-        known = ("froude", "ramp_seconds", "warmup_seconds", "cycles", "horizon_cycles", "threads", "weights")
+        known = (
+            "froude",
+            "ramp_seconds",
+            "warmup_seconds",
+            "cycles",
+            "horizon_cycles",
+            "threads",
+            "weights",
+            "body",
+        )
         for key in settings:
             if key not in known:
                 raise SettingsError(str(key), f"unknown mujoco-horse setting{_suggest(str(key), known)}")
@@ -71,13 +82,17 @@ class HorseSettings:
                 values[key] = _integer(key, settings[key])
         if "weights" in settings:
             values["weights"] = weights_table("weights", settings["weights"])
+        if "body" in settings:
+            if not isinstance(settings["body"], str):
+                raise SettingsError("body", f"must be the name of a body, not {settings['body']!r}")
+            values["body"] = settings["body"]
         return cls(**values)
 
     @property
     def simulated_seconds(self) -> float:
         """Simulated time of the longest check, a kept gait's over the horizon, at the target's
         cycle frequency."""
-        targets = walk_targets(self.froude, NOMINAL_HIP_HEIGHT)
+        targets = walk_targets(self.froude, body_named(self.body).nominal_hip_height)
         return self.ramp_seconds + self.horizon_cycles / targets.stride_frequency
 
 
@@ -124,6 +139,10 @@ def weights_table(key: str, value: Any) -> dict[str, float]:
 
 
 def _check(s: HorseSettings) -> None:
+    try:
+        body_named(s.body)
+    except UnknownBody as error:
+        raise SettingsError("body", str(error)) from None
     if not MIN_FROUDE <= s.froude <= MAX_FROUDE:
         raise SettingsError("froude", f"must be in [{MIN_FROUDE}, {MAX_FROUDE}], not {s.froude}")
     if not 0 <= s.ramp_seconds <= 10:

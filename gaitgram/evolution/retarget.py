@@ -1,0 +1,81 @@
+"""A run's gaits played on another body: the paper's "retarget gait cycles from one animal to
+another", for a backend with bodies (``mujoco-horse``: the horse, a draft horse, ponies).
+
+The gaits keep their joint curves; the backend times them on the new body (by dynamic
+similarity, or as evolved: :attr:`BackendSpec.retarget_scalings`), and they are scored by that
+body's fitness and checked over its horizon, as a run checks the gaits it keeps.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+from gaitgram.backends.api import SettingsError
+from gaitgram.motion.gait import MotionBatch
+from gaitgram.pipeline import Individual, Pipeline, PipelineError
+
+
+class RetargetError(ValueError):
+    """Gaits that cannot be played on the body asked for; says why."""
+
+
+@dataclass(frozen=True)
+class Retargeted:
+    """Gaits played on ``body``: through ``pipeline`` (the run's, with the body's settings), at
+    ``frequencies`` (Hz per gait), having been evolved at ``evolved_frequencies``; None where a
+    gait has no frequency of its own and the body's target frequency was played."""
+
+    body: str
+    scaling: str
+    pipeline: Pipeline
+    frequencies: tuple[float | None, ...]
+    evolved_frequencies: tuple[float | None, ...]
+    individuals: tuple[Individual, ...]
+
+
+def retarget(
+    pipeline: Pipeline, genomes: Sequence[Sequence[int]], generation: int, body: str, scaling: str
+) -> Retargeted:
+    """Play ``genomes``, evolved through ``pipeline``, on ``body``, as they would be scored in
+    ``generation``; raises :class:`RetargetError` for a backend without bodies, an unknown body
+    or scaling."""
+    spec = pipeline.spec
+    if spec.retarget is None or not spec.bodies:
+        raise RetargetError(f"backend {pipeline.backend!r} has one body: its gaits cannot be retargeted")
+    if body not in spec.bodies:
+        close = difflib.get_close_matches(body, list(spec.bodies), n=1)
+        hint = f"did you mean {close[0]!r}?" if close else f"its bodies: {', '.join(spec.bodies)}"
+        raise RetargetError(f"backend {pipeline.backend!r} has no body {body!r}; {hint}")
+    if scaling not in spec.retarget_scalings:
+        known = ", ".join(spec.retarget_scalings)
+        raise RetargetError(f"no frequency scaling {scaling!r}; {pipeline.backend!r} knows {known}")
+    motion = pipeline.motion(pipeline.map(genomes), generation)
+    try:
+        settings, played = spec.retarget(pipeline.config.backend_settings, motion, body, scaling)
+        target = Pipeline.build(pipeline.checked, replace(pipeline.config, backend_settings=settings))
+    except (SettingsError, PipelineError, ValueError) as error:
+        raise RetargetError(f"cannot play the gaits on {body}: {error}") from None
+    evaluator = target.load_evaluator()
+    try:
+        individuals = target.verify(genomes, evaluator, generation, played=lambda _: played)
+    finally:
+        close_evaluator = getattr(evaluator, "close", None)
+        if close_evaluator is not None:
+            close_evaluator()
+    return Retargeted(
+        body,
+        scaling,
+        target,
+        _hertz(played, len(genomes)),
+        _hertz(motion, len(genomes)),
+        tuple(individuals),
+    )
+
+
+def _hertz(motion: MotionBatch, count: int) -> tuple[float | None, ...]:
+    if motion.frequencies is None:
+        return (None,) * count
+    return tuple(None if math.isnan(f) else float(f) for f in motion.frequencies)

@@ -1,0 +1,258 @@
+"""Bodies as data, gaits retargeted between them by dynamic similarity, and seeded transfer.
+
+The model tests every body must pass are in test_horse_model.py (parametrised over the bodies);
+here: the seed gait walks on every body, the targets and frequencies follow sqrt(g / h), playing
+a gait on its own body is the identity, and the commands and a run started from another's
+population work end to end.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from conftest import GRAMMARS
+from gaitgram.backends.api import GaitStatus, SettingsError
+from gaitgram.backends.mujoco_horse.bodies import BODIES, REFERENCE_BODY, UnknownBody, body_named
+from gaitgram.backends.mujoco_horse.model import horse_layout, load_model, master_spec
+from gaitgram.backends.mujoco_horse.retarget import frequency_ratio, retarget
+from gaitgram.backends.mujoco_horse.settings import HorseSettings
+from gaitgram.backends.mujoco_horse.task import walk_targets
+from gaitgram.backends.registry import get_backend
+from gaitgram.cli import app
+from gaitgram.evolution.checkpoint import load_checkpoint
+from gaitgram.evolution.retarget import RetargetError
+from gaitgram.evolution.retarget import retarget as retarget_run
+from gaitgram.evolution.rundir import RunDirectory
+from gaitgram.seed import load_seed
+
+runner = CliRunner()
+OTHER_BODIES = [name for name in BODIES if name != REFERENCE_BODY]
+
+
+# --- bodies as data ----------------------------------------------------------------------------
+
+
+def test_the_reference_body_is_horse_xml_unchanged() -> None:
+    default, named = load_model(), load_model(REFERENCE_BODY)
+    for field in ("body_mass", "body_inertia", "body_pos", "geom_size", "jnt_range", "actuator_gainprm"):
+        np.testing.assert_array_equal(getattr(default, field), getattr(named, field), err_msg=field)
+    assert default.opt.timestep == named.opt.timestep
+
+
+@pytest.mark.parametrize("name", OTHER_BODIES)
+def test_a_body_keeps_the_horses_joints_and_scales_by_the_documented_laws(name: str) -> None:
+    """Same joints, limits, actuators; masses by M, gains by m·ℓ, time by sqrt(ℓ) (docs/bodies.md)."""
+    horse, body = load_model(), load_model(name)
+    assert [horse.joint(j).name for j in range(horse.njnt)] == [body.joint(j).name for j in range(body.njnt)]
+    np.testing.assert_array_equal(horse.jnt_range, body.jnt_range)  # angles are size-free
+    np.testing.assert_array_equal(horse.actuator_ctrlrange, body.actuator_ctrlrange)
+    mass_ratio = BODIES[name].mass / BODIES[REFERENCE_BODY].mass
+    np.testing.assert_allclose(body.body_mass[1:], horse.body_mass[1:] * mass_ratio, rtol=1e-9)
+    lengths = horse_layout(name).hip_height / horse_layout().hip_height
+    # A servo's gain over the horse's: mass times its segment's length scale, which lies between
+    # the limb's and the trunk's; the time step follows the limb's natural period.
+    gain = body.actuator_gainprm[:, 0] / horse.actuator_gainprm[:, 0]
+    assert np.all(gain > 0)
+    assert gain.min() == pytest.approx(mass_ratio * lengths, rel=0.1)
+    assert body.opt.timestep == pytest.approx(horse.opt.timestep * math.sqrt(lengths), rel=0.1)
+
+
+def test_an_unknown_body_is_refused_with_the_names_there_are() -> None:
+    with pytest.raises(UnknownBody, match="did you mean 'shetland'"):
+        body_named("shetlnd")
+    with pytest.raises(SettingsError, match="body.*did you mean 'draft'"):
+        HorseSettings.from_mapping({"body": "drfat"})
+    result = runner.invoke(app, ["evaluate", str(GRAMMARS / "hybrid.gg"), "--genome", "1,2,3", "--set", "body=pnoy"])
+    assert result.exit_code == 2
+    assert "did you mean 'pony'" in result.output
+    assert "Traceback" not in result.output
+
+
+def test_the_body_is_not_spelt_out_in_a_horse_runs_settings() -> None:
+    """Runs of revision 4 without a body keep their fingerprints."""
+    check = get_backend("mujoco-horse").check_settings
+    assert "body" not in check({})
+    assert check({"body": "draft"})["body"] == "draft"
+
+
+# --- targets by dynamic similarity -------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", list(BODIES))
+def test_targets_and_frequency_follow_sqrt_g_over_h(name: str) -> None:
+    horse_hip, hip = horse_layout().hip_height, horse_layout(name).hip_height
+    ratio = frequency_ratio(REFERENCE_BODY, name)
+    assert ratio == pytest.approx(math.sqrt(horse_hip / hip), rel=1e-12)
+    if name == REFERENCE_BODY:
+        assert ratio == 1.0
+    evaluator = get_backend("mujoco-horse").load({"body": name, "threads": 1})
+    try:
+        targets = evaluator.targets
+    finally:
+        evaluator.close()
+    froude = HorseSettings.from_mapping({}).froude
+    assert targets.velocity == pytest.approx(froude * math.sqrt(9.81 * hip), rel=1e-3)  # Fr = v / sqrt(g h)
+    horse = walk_targets(froude, horse_hip)
+    assert targets.stride_frequency / horse.stride_frequency == pytest.approx(ratio, rel=1e-9)
+    assert targets.stride_length / hip == pytest.approx(horse.stride_length / horse_hip, rel=1e-9)
+
+
+@pytest.mark.parametrize("name", list(BODIES))
+def test_the_seed_gait_walks_on_every_body(name: str) -> None:
+    """The horse's seed, at each body's own target frequency, is a walk by criterion v2 over
+    the 20-cycle horizon, at the body's target speed and frequency."""
+    evaluator = get_backend("mujoco-horse").load({"body": name, "threads": 2})
+    try:
+        (checked,) = evaluator.verify(load_seed().motion_batch())
+        targets = evaluator.targets
+    finally:
+        evaluator.close()
+    assert checked.status is GaitStatus.OK, checked.detail
+    c = checked.components
+    assert c["walk"] == 1.0, {k: v for k, v in c.items() if k.startswith("walk_")}
+    assert c["checked_cycles"] == 20.0
+    assert c["measured_velocity"] == pytest.approx(targets.velocity, rel=0.1)
+    assert c["measured_frequency"] == pytest.approx(targets.stride_frequency, rel=0.02)
+
+
+def test_retargeting_to_the_same_body_is_the_identity() -> None:
+    motion = replace(load_seed().motion_batch(), frequencies=np.array([0.93]))
+    settings = {"cycles": 3}
+    played_settings, played = retarget(settings, motion, REFERENCE_BODY, "froude")
+    assert played_settings == {"cycles": 3, "body": REFERENCE_BODY}
+    np.testing.assert_array_equal(played.frequencies, motion.frequencies)
+    assert played.angles is motion.angles
+
+
+def test_froude_and_unscaled_frequencies() -> None:
+    motion = load_seed().motion_batch()  # no frequency of its own: played at the target
+    _, froude = retarget({}, motion, "shetland", "froude")
+    assert froude.frequencies is None  # the body's own target, which scales as sqrt(g / h)
+    _, unscaled = retarget({}, motion, "shetland", "unscaled")
+    horse_target = walk_targets(HorseSettings.from_mapping({}).froude, horse_layout().hip_height)
+    np.testing.assert_allclose(unscaled.frequencies, [horse_target.stride_frequency])
+    own = replace(motion, frequencies=np.array([0.9]))
+    _, scaled = retarget({}, own, "draft", "froude")
+    np.testing.assert_allclose(scaled.frequencies, [0.9 * frequency_ratio(None, "draft")])
+    with pytest.raises(ValueError, match="no frequency scaling"):
+        retarget({}, motion, "draft", "stretched")
+
+
+# --- a run's gaits on another body -------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def horse_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("retarget") / "horse"
+    made = runner.invoke(
+        app,
+        ["evolve", str(GRAMMARS / "hybrid.gg"), "--generations", "2", "--population", "8"]
+        + ["--seed", "3", "-o", str(out), "-q"],
+    )
+    assert made.exit_code == 0, made.output
+    return out
+
+
+def test_a_runs_best_played_on_its_own_body_scores_as_recorded(horse_run: Path) -> None:
+    directory = RunDirectory.open(horse_run)
+    pipeline = directory.pipeline
+    state = load_checkpoint(
+        directory.checkpoints[0], pipeline, fingerprint=directory.fingerprints, run=0, with_memory=False
+    )
+    best = state.best
+    played = retarget_run(pipeline, [best.genome], state.generation, REFERENCE_BODY, "froude")
+    assert played.individuals[0].evaluation.fitness == best.evaluation.fitness
+    assert played.individuals[0].evaluation.components == best.evaluation.components
+    with pytest.raises(RetargetError, match="did you mean 'draft'"):
+        retarget_run(pipeline, [best.genome], state.generation, "draf", "froude")
+
+
+def test_retarget_command(horse_run: Path) -> None:
+    result = runner.invoke(app, ["retarget", "--run", str(horse_run), "--to", "shetland", "--json"])
+    assert result.exit_code == 0, result.output
+    record = json.loads(result.output)
+    playings = {p["playing"]: p for p in record["played"]}
+    assert set(playings) == {"as evolved", "froude", "unscaled"}
+    evolved = playings["as evolved"]["frequency"]
+    assert playings["unscaled"]["frequency"] == pytest.approx(evolved)
+    ratio = frequency_ratio(None, "shetland")
+    assert playings["froude"]["frequency"] == pytest.approx(evolved * ratio, rel=1e-9)
+    table = runner.invoke(app, ["retarget", "--run", str(horse_run), "--to", "draft", "--scaling", "froude"])
+    assert table.exit_code == 0, table.output
+    assert "froude" in table.output and "unscaled" not in table.output
+    wrong = runner.invoke(app, ["retarget", "--run", str(horse_run), "--to", "zebra"])
+    assert wrong.exit_code == 2
+    assert "no body 'zebra'" in wrong.output and "Traceback" not in wrong.output
+
+
+# --- seeded transfer ---------------------------------------------------------------------------
+
+
+def test_a_run_started_from_another_begins_with_its_final_population(horse_run: Path, tmp_path: Path) -> None:
+    config = tmp_path / "pony.toml"
+    config.write_text('[backend_settings]\nbody = "pony"\n')
+    out = tmp_path / "pony"
+    made = runner.invoke(
+        app,
+        ["evolve", str(GRAMMARS / "hybrid.gg"), "--config", str(config), "--generations", "1"]
+        + ["--population", "8", "--seed", "4", "--start-from", str(horse_run), "-o", str(out), "-q"],
+    )
+    assert made.exit_code == 0, made.output
+    source = RunDirectory.open(horse_run)
+    final = load_checkpoint(
+        source.checkpoints[0], source.pipeline, fingerprint=source.fingerprints, run=0, with_memory=False
+    )
+    started = RunDirectory.open(out)
+    assert started.config.start_from == str(horse_run.resolve())
+    assert started.config.backend_settings["body"] == "pony"
+    history = [json.loads(line) for line in (out / "run-000" / "stats.jsonl").read_text().splitlines()]
+    # Generation 0 is the source's final population re-scored on the pony, not random trees.
+    first = load_checkpoint(
+        started.checkpoints[0], started.pipeline, fingerprint=started.fingerprints, run=0, with_memory=False
+    )
+    assert first.generation == 1 and history
+    source_genomes = {tuple(i.genome) for i in final.population}
+    assert {tuple(i.genome) for i in first.population} & source_genomes  # elites carried over
+
+
+def test_a_transfer_is_refused_from_another_grammar_or_an_unfinished_run(horse_run: Path, tmp_path: Path) -> None:
+    other = runner.invoke(
+        app,
+        ["evolve", str(GRAMMARS / "sinusoidal.gg"), "--generations", "1", "--population", "8"]
+        + ["--start-from", str(horse_run), "-o", str(tmp_path / "x"), "-q"],
+    )
+    assert other.exit_code == 2
+    assert "another grammar" in other.output
+    assert not (tmp_path / "x").exists()
+    big = runner.invoke(
+        app,
+        ["evolve", str(GRAMMARS / "hybrid.gg"), "--generations", "1", "--population", "20"]
+        + ["--start-from", str(horse_run), "-o", str(tmp_path / "y"), "-q"],
+    )
+    assert big.exit_code == 2
+    assert "fewer than this run's population" in big.output
+    cma = runner.invoke(
+        app,
+        ["evolve", str(GRAMMARS / "hybrid.gg"), "--strategy", "cma-es", "--generations", "1"]
+        + ["--population", "8", "--start-from", str(horse_run), "-o", str(tmp_path / "z"), "-q"],
+    )
+    assert cma.exit_code == 2
+    assert "start_from" in cma.output
+    assert "Traceback" not in other.output + big.output + cma.output
+
+
+def test_every_body_builds_from_the_one_xml() -> None:
+    """Each model is horse.xml edited by MjSpec: a body's spec compiles, and has the same tree."""
+    reference = master_spec()
+    for name in OTHER_BODIES:
+        spec = master_spec(name)
+        assert [b.name for b in spec.bodies] == [b.name for b in reference.bodies]
+        assert isinstance(spec.compile(), mujoco.MjModel)
