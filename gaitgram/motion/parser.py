@@ -89,7 +89,10 @@ _TOKEN = re.compile(
 
 # Operator-stack entries are (precedence, operator or name, start): "(" and calls are barriers
 # (precedence 0) that reductions stop at; a call's entry is a list whose fourth item counts
-# its arguments.
+# its arguments. A binary operator's start is its left operand's, the start of its node.
+#
+# No stack of operand spans is needed: an operand is complete when the next token comes, and
+# the last node emitted is then its root, which holds its span.
 _BARRIER = 0
 _OPERAND = "a number, t, PI, a function call or '('"
 
@@ -97,7 +100,6 @@ _OPERAND = "a number, t, PI, a function call or '('"
 def parse(text: str) -> Syntax | MotionError:
     """The postfix nodes of ``text``, or the PARSE_ERROR at its first token that cannot be."""
     nodes: list[Node] = []
-    spans: list[tuple[int, int]] = []  # the span of each operand parsed but not yet used
     ops: list = []
     depth = 0  # open parentheses and calls
     expect_operand = True
@@ -110,13 +112,11 @@ def parse(text: str) -> Syntax | MotionError:
             if group == 1:
                 start, end = match.span(1)
                 append((NUMBER, float(match.group(1)), start, end, 0, 0))
-                spans.append((start, end))
                 expect_operand = call_opened = False
                 continue
             if group == 2:
                 start, end = match.span(2)
                 append((NAME, match.group(2), start, end, 0, 0))
-                spans.append((start, end))
                 expect_operand = call_opened = False
                 continue
             if group == 3:
@@ -136,9 +136,7 @@ def parse(text: str) -> Syntax | MotionError:
             elif char == ")" and call_opened:
                 _, name, call_start, _ = ops.pop()
                 depth -= 1
-                end = start + 1
-                append((CALL, name, call_start, end, 0, 0))
-                spans.append((call_start, end))
+                append((CALL, name, call_start, start + 1, 0, 0))
                 expect_operand = False
             else:
                 return _unexpected(text, "", char, start, _OPERAND)
@@ -148,26 +146,24 @@ def parse(text: str) -> Syntax | MotionError:
             if group == 5:
                 return _bad_character(text, match.start(5))
             if group == 1:
-                start, end = match.span(1)
-                return _unexpected(text, "number ", match.group(1), start, _after_operand(depth))
-            start, end = match.span(2)
-            return _unexpected(text, "name ", match.group(2), start, _after_operand(depth))
+                return _unexpected(text, "number ", match.group(1), match.start(1), _after_operand(depth))
+            return _unexpected(text, "name ", match.group(2), match.start(2), _after_operand(depth))
         char = match.group(4)
-        start = match.start(4)
         level = precedence.get(char)
         if level is not None:
             while ops and ops[-1][0] >= level:
-                _reduce(ops.pop(), nodes, spans)
-            ops.append((level, char, start))
+                _reduce(ops.pop(), nodes)
+            ops.append((level, char, nodes[-1][2]))
             expect_operand = True
             continue
+        start = match.start(4)
         if char == "(":
             return _unexpected(text, "", char, start, _after_operand(depth))
         # ")" or ","
         if depth == 0:
             return _unexpected(text, "", char, start, _after_operand(depth))
         while ops[-1][0] != _BARRIER:
-            _reduce(ops.pop(), nodes, spans)
+            _reduce(ops.pop(), nodes)
         opener = ops[-1]
         if char == ",":
             if opener[1] == "(":
@@ -177,37 +173,28 @@ def parse(text: str) -> Syntax | MotionError:
             continue
         ops.pop()
         depth -= 1
-        end = start + 1
-        open_start = opener[2]
         if opener[1] == "(":  # a group: its content's root, the last node, takes the parentheses
             kind, value, _, _, a, b = nodes[-1]
-            nodes[-1] = (kind, value, open_start, end, a, b)
-            spans[-1] = (open_start, end)
+            nodes[-1] = (kind, value, opener[2], start + 1, a, b)
         else:
-            count = opener[3]
-            del spans[len(spans) - count :]
-            append((CALL, opener[1], open_start, end, count, 0))
-            spans.append((open_start, end))
+            append((CALL, opener[1], opener[2], start + 1, opener[3], 0))
     if expect_operand:
         return _early_end(text, _OPERAND)
     if depth:
         return _early_end(text, _after_operand(depth))
     while ops:
-        _reduce(ops.pop(), nodes, spans)
+        _reduce(ops.pop(), nodes)
     return Syntax(text, tuple(nodes))
 
 
-def _reduce(entry: tuple[int, str, int], nodes: list[Node], spans: list[tuple[int, int]]) -> None:
+def _reduce(entry: tuple[int, str, int], nodes: list[Node]) -> None:
+    """Emit the node of an operator whose operands are complete (the right one's root is last)."""
     level, op, start = entry
+    _, _, operand_start, end, _, _ = nodes[-1]
     if level == UNARY_PRECEDENCE:
-        end = spans[-1][1]
         nodes.append((UNARY, op, start, end, 0, 0))
-        spans[-1] = (start, end)
     else:
-        right_start, end = spans.pop()
-        start = spans[-1][0]
-        nodes.append((BINARY, op, start, end, right_start, end))
-        spans[-1] = (start, end)
+        nodes.append((BINARY, op, start, end, operand_start, end))
 
 
 def parse_expression(text: str) -> Expr | MotionError:
