@@ -2,10 +2,9 @@
 
 The compiler itself never needs it (it reads the parser's postfix nodes, see
 :mod:`gaitgram.motion.parser`); the tree is built on request, by
-:func:`~gaitgram.motion.parser.parse_expression` or :attr:`Motion.expr
-<gaitgram.motion.machine.Motion.expr>`. Spans (``start``, ``end``: offsets into the text)
-do not take part in equality, so a tree parsed from differently spaced or parenthesised
-text compares equal.
+:func:`~gaitgram.motion.parser.parse_expression` or a motion's ``expr``. Spans
+(``start``, ``end``: offsets into the text) do not take part in equality, so a tree parsed
+from differently spaced or parenthesised text compares equal.
 """
 
 from __future__ import annotations
