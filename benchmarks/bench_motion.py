@@ -121,3 +121,8 @@ def main() -> None:
             f"{line} {base[0]:>9,.0f} {new[0] / base[0]:>5.1f}x"
             f" {new[1]:>9,.0f} {base[1]:>9,.0f} {new[1] / base[1]:>5.1f}x"
         )
+    for size in (100_000, 200_000):  # linear: twice the text, twice the time
+        text = "t" + " " * size
+        start = time.process_time()
+        expression.compile_motion.__wrapped__(text)
+        print(f"'t' and {size:,} spaces: {(time.process_time() - start) * 1e3:.1f} ms")

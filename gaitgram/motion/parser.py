@@ -74,17 +74,19 @@ NUMBER, NAME, UNARY, BINARY, CALL = NodeKind
 NUMBER_PATTERN = r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
 NAME_PATTERN = r"[A-Za-z_][A-Za-z0-9_]*"
 PUNCTUATION = "+-*/(),"
-WHITESPACE_PATTERN = r"[ \t\r\n]"  # one character of what the grammar ignores between tokens
+WHITESPACE = " \t\r\n"  # what the grammar ignores between tokens
 
+_SPACE = f"[{re.escape(WHITESPACE)}]"
 # One match a token, the whitespace before it included. Groups: 1 NUMBER; 2 NAME, with 3 the
 # "(" that makes it a call; 4 punctuation; 5 a character no terminal matches (lark's error).
-# Trailing whitespace matches nothing, which ends the tokens.
+# The text is scanned up to its trailing whitespace, where a match would fail at every
+# position in turn, in quadratic time; anywhere else some token follows.
 _TOKEN = re.compile(
-    f"{WHITESPACE_PATTERN}*(?:"
+    f"{_SPACE}*(?:"
     f"({NUMBER_PATTERN})"
-    f"|({NAME_PATTERN})(?:{WHITESPACE_PATTERN}*(\\())?"
+    f"|({NAME_PATTERN})(?:{_SPACE}*(\\())?"
     f"|([{re.escape(PUNCTUATION)}])"
-    f"|(?!{WHITESPACE_PATTERN})([\\s\\S]))"
+    f"|(?!{_SPACE})([\\s\\S]))"
 )
 
 # Operator-stack entries are (precedence, operator or name, start): "(" and calls are barriers
@@ -106,7 +108,7 @@ def parse(text: str) -> Syntax | MotionError:
     call_opened = False  # the last token was a call's "(": ")" may come next
     precedence = BINARY_PRECEDENCE
     append = nodes.append
-    for match in _TOKEN.finditer(text):
+    for match in _TOKEN.finditer(text, 0, len(text.rstrip(WHITESPACE))):
         group = match.lastindex
         if expect_operand:
             if group == 1:
