@@ -120,3 +120,13 @@ def test_the_site_api_pages_document_the_plugin_apis(site: Path) -> None:
     for name in ("Strategy", "RunContext", "StrategySpec", "ask", "tell", "get_strategy"):
         assert name in strategies, name
     assert ":class:" not in backends + strategies  # Sphinx roles shown as code
+
+
+def test_the_site_api_page_documents_the_motion_compilers_stages(site: Path) -> None:
+    motion = page(site, "api/motion")
+    for module in ("expression", "results", "machine", "parser", "checker", "compiler", "vocabulary", "tree"):
+        assert f'id="gaitgram.motion.{module}"' in motion, module
+    for name in ("compile_motion", "MotionError", "Syntax", "check", "compile_program", "Motion"):
+        assert name in motion, name
+    assert ":class:" not in motion
+    assert ":mod:" not in motion

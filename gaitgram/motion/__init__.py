@@ -1,11 +1,12 @@
 """Motion: phenotype expressions compiled to numpy curves, and Fourier tools for sums of sines.
 
 ``compile_motion(text)`` turns a joint's phenotype into a :class:`Motion` (or a
-:class:`MotionError`); ``Motion.evaluate(phases)`` gives a :class:`Curve` with a
-:class:`MotionStatus`. ``fourier_coefficients`` and ``control_matrix`` turn a
-population's sums of sines into control arrays with one matrix product, and
-``fit_sum_of_sines`` is the paper's Fourier analysis of sampled seed curves.
-"""
+:class:`MotionError`) through four stages, each a module: ``parser``, ``checker``,
+``compiler`` and ``machine`` (see :mod:`gaitgram.motion.expression`);
+``Motion.evaluate(phases)`` gives a :class:`Curve` with a :class:`MotionStatus`.
+``fourier_coefficients`` and ``control_matrix`` turn a population's sums of sines into
+control arrays with one matrix product, and ``fit_sum_of_sines`` is the paper's Fourier
+analysis of sampled seed curves."""
 
 from gaitgram.motion.expression import (
     CONSTANTS,

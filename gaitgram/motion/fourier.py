@@ -24,13 +24,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gaitgram.motion.expression import (
-    Motion,
-    MotionError,
-    MotionStatus,
-    compile_motion,
-    format_number,
-)
+from gaitgram.motion.expression import compile_motion
+from gaitgram.motion.machine import Motion
+from gaitgram.motion.printer import format_number
+from gaitgram.motion.results import MotionError, MotionStatus
 
 #: Default tolerance for recognising a sum of sines, relative to the curve's scale (at least 1).
 TOLERANCE = 1e-9

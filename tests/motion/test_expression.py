@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
+from motion_texts import expressions, render
 
 from gaitgram.motion import (
     Curve,
@@ -28,56 +29,11 @@ from gaitgram.motion.expression import (
     Name,
     Number,
     Unary,
-    _fast_parse,
-    _lark_parse,
     postorder,
 )
 
 SEED = "6.97+7.7*sin(1*2*PI*t+1.07)+2.56*sin(2*2*PI*t+2.97)"
 PHASES = np.concatenate([phase_grid(16), [0.3, 0.999, 1 / 3]])
-
-# ---------------------------------------------------------------------------------------------
-# Random syntax trees
-
-numbers = st.one_of(
-    st.integers(0, 12).map(float),
-    st.floats(0, 50, allow_nan=False).map(lambda x: round(x, 3)),
-    st.floats(0, 1e308, allow_nan=False, allow_infinity=False),
-    st.sampled_from([0.0, 0.25, 0.5, 1e-300, 5e-324, 1e300, 1.7976931348623157e308]),
-).map(Number)
-leaves = st.one_of(numbers, st.sampled_from([Name("t"), Name("t"), Name("PI"), Name("pi")]))
-
-
-def _branches(children: st.SearchStrategy[Expr]) -> st.SearchStrategy[Expr]:
-    return st.one_of(
-        st.builds(Unary, st.sampled_from("-+"), children),
-        st.builds(Binary, st.sampled_from("+-*/"), children, children),
-        st.builds(lambda name, arg: Call(name, (arg,)), st.sampled_from(["sin", "cos"]), children),
-    )
-
-
-expressions = st.recursive(leaves, _branches, max_leaves=24)
-
-
-def render(node: Expr, rng: random.Random) -> str:
-    """Fully parenthesised text with random spacing: independent of the library's printer."""
-
-    def space() -> str:
-        return rng.choice(["", "", " ", "  ", "\t", "\n"])
-
-    match node:
-        case Number(value=value):
-            return repr(value)
-        case Name(name=name):
-            return name
-        case Unary(op=op, operand=operand):
-            return f"{op}{space()}({render(operand, rng)})"
-        case Binary(op=op, left=left, right=right):
-            return f"({render(left, rng)}){space()}{op}{space()}({render(right, rng)})"
-        case Call(name=name, args=(arg,)):
-            return f"{name}{space()}({space()}{render(arg, rng)}{space()})"
-    raise AssertionError(node)
-
 
 # ---------------------------------------------------------------------------------------------
 # The reference: Python floats and math, one phase at a time.
@@ -176,39 +132,6 @@ def test_every_span_reparses_to_its_node(expr: Expr, rng: random.Random) -> None
     assert not isinstance(tree, MotionError)
     for node in postorder(tree):
         assert parse_expression(text[node.start : node.end]) == node
-
-
-def assert_same_tree(fast: Expr | None, lark: Expr | MotionError) -> None:
-    """The fast parser builds lark's tree, spans included, and fails exactly where lark fails."""
-    if isinstance(lark, MotionError):
-        assert fast is None
-        return
-    assert fast == lark
-    assert fast is not None
-    spans = [(type(n), n.start, n.end) for n in postorder(fast)]
-    assert spans == [(type(n), n.start, n.end) for n in postorder(lark)]
-
-
-_SNIPPETS = ["sin", "cos", "t", "PI", "foo", "1", "2.5", ".5", "1e3", "1.e-2", *"+-*/(),"]
-
-
-@given(
-    st.one_of(
-        st.text(alphabet=st.sampled_from(list("0123456789.eE+-*/(), \ttPIsncofx_")), max_size=30),
-        st.lists(st.sampled_from(_SNIPPETS), max_size=14).map(" ".join),
-        st.lists(st.sampled_from(_SNIPPETS), max_size=14).map("".join),
-    )
-)
-def test_fast_parser_agrees_with_the_lark_grammar(text: str) -> None:
-    assert_same_tree(_fast_parse(text), _lark_parse(text))
-
-
-@given(expressions, st.randoms(use_true_random=False))
-def test_fast_parser_agrees_with_the_lark_grammar_on_valid_text(expr: Expr, rng: random.Random) -> None:
-    text = render(expr, rng)
-    assert_same_tree(_fast_parse(text), _lark_parse(text))
-    compact = to_text(expr)
-    assert_same_tree(_fast_parse(compact), _lark_parse(compact))
 
 
 @given(st.lists(st.floats(-360, 360), min_size=0, max_size=4))
