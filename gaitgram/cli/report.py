@@ -9,8 +9,9 @@ from typing import Annotated
 import typer
 
 from gaitgram.cli.common import check_output, err, require_extra
-from gaitgram.strategies.gallery import GalleryError
-from gaitgram.study.report import ReportError, check_comparable, load_arms, write_report
+from gaitgram.study.gallery import GalleryError
+from gaitgram.study.records import ReportError
+from gaitgram.study.report import make_report
 
 
 def command(
@@ -58,9 +59,7 @@ def command(
         require_extra("PIL", "animations")
     check_output(out, force=False, directory=True, parents=True, flag="-o")  # before reading the runs
     try:
-        arms, title = load_arms(directories)
-        check_comparable(arms)  # before anything is made
-        written = write_report(arms, out, title=title, force=force, chosen=chosen, gaits=gaits)
+        written = make_report(directories, out, force=force, gaits=gaits, chosen=chosen)
     except (ReportError, GalleryError) as error:
         err.print(f"error: {error}", style="bold red")
         raise typer.Exit(2) from None

@@ -49,7 +49,7 @@ from gaitgram.language import parse
 from gaitgram.language.source import SourceText, decode_source
 from gaitgram.pipeline import Genome, Individual, Pipeline, PipelineError
 from gaitgram.strategies.api import RunState, StrategyError
-from gaitgram.strategies.figures import RecordError, kept_members
+from gaitgram.strategies.kept import RecordError, kept_members
 from gaitgram.strategies.registry import get_strategy, load_strategy, run_pipeline
 
 MANIFEST = "manifest.json"

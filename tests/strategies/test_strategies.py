@@ -30,7 +30,7 @@ from gaitgram.evolution.engine import run_evolution
 from gaitgram.language import parse
 from gaitgram.pipeline import Pipeline, PipelineError
 from gaitgram.strategies.api import RunState
-from gaitgram.strategies.figures import non_dominated
+from gaitgram.strategies.kept import non_dominated
 from gaitgram.strategies.registry import run_pipeline
 
 runner = CliRunner()

@@ -17,7 +17,7 @@ from gaitgram.cli import app
 from gaitgram.language import parse
 from gaitgram.language.source import read_source
 from gaitgram.strategies.registry import run_pipeline
-from gaitgram.study.report import load_study_arms
+from gaitgram.study.records import load_study_arms
 from gaitgram.study.spec import ScaleDown, StudyError, load_study
 
 runner = CliRunner()

@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from gaitgram.study.report import build_report, load_study_arms
+from gaitgram.study.model import build_report
+from gaitgram.study.records import load_study_arms
 from gaitgram.study.spec import ScaleDown, StudyError, load_study
 from gaitgram.study.stats import a12, holm
 
@@ -140,7 +141,7 @@ def test_runs_of_different_budgets_are_not_reported_together(tmp_path: Path) -> 
     assert (
         gaitgram("study", str(study), "-o", str(tmp_path / "b"), "-q", "--generations", "3").returncode == 0
     )
-    from gaitgram.study.report import ReportError, load_arm
+    from gaitgram.study.records import ReportError, load_arm
 
     arms = [
         load_arm(tmp_path / "a" / "arms" / "plain", "two"),
@@ -189,7 +190,7 @@ def test_the_bundled_paper_studies_load_at_the_table_1_budget_and_scale_down() -
 
 
 def test_a_small_share_never_reads_as_none() -> None:
-    from gaitgram.study.report import _rate
+    from gaitgram.study.model import share_text as _rate
 
     assert [_rate(v) for v in (0.0, 0.0004, 0.004, 0.9, None)] == ["0%", "< 0.1%", "0.4%", "90%", "n/a"]
 
@@ -234,7 +235,8 @@ def write_arm(path: Path, runs: list[dict]) -> Path:
 
 
 def test_walk_held_counts_what_each_strategy_hands_back(tmp_path: Path) -> None:
-    from gaitgram.study.report import csv_text, load_arm, markdown
+    from gaitgram.study.formats import csv_text, markdown
+    from gaitgram.study.records import load_arm
 
     # A walk in the final population although the best is not one (as CMA-ES's runs end).
     population = write_arm(
@@ -277,7 +279,7 @@ def test_walk_held_counts_what_each_strategy_hands_back(tmp_path: Path) -> None:
 
 
 def test_an_unreadable_front_is_a_report_error(tmp_path: Path) -> None:
-    from gaitgram.study.report import ReportError, load_arm
+    from gaitgram.study.records import ReportError, load_arm
 
     arm = write_arm(tmp_path / "arm", [{"best_walk": 0.0, "front.json": [1.0]}])
     for broken, problem in [
@@ -293,7 +295,7 @@ def test_an_unreadable_front_is_a_report_error(tmp_path: Path) -> None:
 
 
 def test_a_front_that_is_the_whole_population_is_called_out() -> None:
-    from gaitgram.study.report import _saturation
+    from gaitgram.study.model import saturation as _saturation
 
     assert _saturation([70, 74], 75) == ""
     note = _saturation([75, 60, 75], 75)

@@ -1,9 +1,9 @@
-"""What the multi-objective and quality-diversity strategies leave for a report: fronts and repertoires.
+"""The sets of gaits the multi-objective and quality-diversity strategies keep: fronts and repertoires.
 
 Read from the records a run directory keeps beside ``best.json`` (``front.json``
 of ``nsga2``, ``archive.json`` of ``map-elites``, or any plug-in that writes the
-same), so a report needs neither the strategy's library nor its pickled state.
-Figures need matplotlib (the ``plot`` extra), imported only when drawn.
+same), so a report or ``--walk`` needs neither the strategy's library nor its
+pickled state. The report draws them (:mod:`gaitgram.study.figures`).
 """
 
 from __future__ import annotations
@@ -127,48 +127,6 @@ def non_dominated(points: np.ndarray) -> np.ndarray:
     return keep
 
 
-def trade_offs(front: Front, count: int) -> list[dict[str, Any]]:
-    """``count`` members spread along the front, from the best in the first objective to the best
-    in the last (both extremes included when ``count`` >= 2)."""
-    if not front.members or count <= 0:
-        return []
-    order = np.argsort(front.points[:, 0], kind="stable")
-    picks = np.unique(np.linspace(0, len(order) - 1, min(count, len(order))).round().astype(int))
-    return [front.members[order[i]] for i in picks]
-
-
-def front_figure(name: str, fronts: list[Front]):  # -> matplotlib.figure.Figure
-    """Every pair of objectives as a scatter of each run's front (one colour per run)."""
-    from matplotlib.figure import Figure
-
-    objectives = fronts[0].objectives
-    pairs = [(a, b) for a in range(len(objectives)) for b in range(a + 1, len(objectives))]
-    columns = min(3, len(pairs))
-    rows = math.ceil(len(pairs) / columns)
-    figure = Figure(figsize=(max(6.5, 4.2 * columns), 3.8 * rows + 0.4), layout="constrained")
-    panels = np.atleast_1d(figure.subplots(rows, columns, squeeze=False).ravel())
-    for panel, (a, b) in zip(panels, pairs, strict=False):
-        for front in fronts:
-            panel.scatter(
-                front.points[:, a],
-                front.points[:, b],
-                s=14,
-                color=f"C{front.run % 10}",
-                label=f"run {front.run} ({len(front.points)})",
-            )
-        panel.set_xlabel(objectives[a])
-        panel.set_ylabel(objectives[b])
-        panel.grid(alpha=0.3)
-    for panel in panels[len(pairs) :]:
-        panel.set_visible(False)
-    if len(fronts) <= 10:
-        panels[0].legend(fontsize="x-small", title="front size", title_fontsize="x-small")
-    figure.suptitle(
-        f"{name}: final Pareto fronts of {len(fronts)} run(s)\nobjectives pairwise, lower is better"
-    )
-    return figure
-
-
 # ---- repertoires ----------------------------------------------------------------------------
 
 
@@ -254,64 +212,3 @@ def _descriptors(value: Any) -> tuple[dict[str, Any], ...]:
     if math.prod(d["bins"] for d in value) > MAX_CELLS:
         raise ValueError(f"the descriptors make more than {MAX_CELLS} cells")
     return tuple(value)
-
-
-def spread_cells(repertoire: Repertoire, count: int) -> list[tuple[int, ...]]:
-    """``count`` filled cells spread along the first descriptor (slow to fast on the horse)."""
-    cells = sorted(repertoire.elites, key=lambda c: (c, repertoire.best[c]))
-    if not cells or count <= 0:
-        return []
-    picks = np.unique(np.linspace(0, len(cells) - 1, min(count, len(cells))).round().astype(int))
-    return [cells[i] for i in picks]
-
-
-def archive_figure(name: str, repertoire: Repertoire, chosen: list[tuple[int, ...]] = ()):  # -> Figure
-    """The best fitness in each cell (left) and how many runs filled it (right), as heat maps."""
-    from matplotlib.figure import Figure
-    from matplotlib.ticker import MaxNLocator
-
-    d = repertoire.descriptors
-    best = repertoire.best if repertoire.best.ndim == 2 else repertoire.best[:, None]
-    coverage = repertoire.coverage if repertoire.coverage.ndim == 2 else repertoire.coverage[:, None]
-    x = (d[0]["low"], d[0]["high"])
-    y = (d[1]["low"], d[1]["high"]) if len(d) > 1 else (0.0, 1.0)
-    figure = Figure(figsize=(11, 4.5), layout="constrained")
-    panels = figure.subplots(1, 2)
-    runs = len(repertoire.filled)
-    for panel, values, label, cmap, ticks in (
-        (panels[0], best, "best fitness (lower is better)", "viridis_r", None),
-        (
-            panels[1],
-            coverage.astype(float),
-            f"runs that filled the cell (of {runs})",
-            "Greys",
-            MaxNLocator(integer=True),
-        ),
-    ):
-        image = panel.imshow(
-            values.T, origin="lower", extent=(*x, *y), aspect="auto", cmap=cmap, interpolation="nearest"
-        )
-        figure.colorbar(image, ax=panel, label=label, ticks=ticks)
-        panel.set_xlabel(d[0]["name"])
-        panel.set_ylabel(d[1]["name"] if len(d) > 1 else "")
-    width = (x[1] - x[0]) / best.shape[0]
-    height = (y[1] - y[0]) / best.shape[1]
-    for cell in chosen:
-        i, j = cell[0], cell[1] if len(cell) > 1 else 0
-        panels[0].add_patch(
-            _rectangle((x[0] + i * width, y[0] + j * height), width, height, label=f"{i},{j}")
-        )
-        centre = (x[0] + (i + 0.5) * width, y[0] + (j + 0.5) * height)
-        panels[0].annotate(f"{i},{j}", centre, color="red", fontsize=7, ha="center", va="center")
-    mean_filled = float(np.mean(repertoire.filled)) if repertoire.filled else 0.0
-    figure.suptitle(
-        f"{name}: repertoire of {runs} run(s): {int(np.sum(repertoire.coverage > 0))} of "
-        f"{repertoire.cells} cells filled together, {mean_filled:.1f} per run"
-    )
-    return figure
-
-
-def _rectangle(corner: tuple[float, float], width: float, height: float, label: str) -> Any:
-    from matplotlib.patches import Rectangle
-
-    return Rectangle(corner, width, height, fill=False, edgecolor="red", linewidth=1.5, label=label)

@@ -1,0 +1,250 @@
+"""The report's text formats: Markdown, CSV, LaTeX and JSON, drawn from :mod:`gaitgram.study.model`.
+
+Markdown draws every section generically. ``summary.csv``, ``tables.tex`` and
+``summary.json`` keep the summary's committed layout (the reports in
+docs/results are kept byte for byte) and add every further section's tables
+generically: LaTeX a booktabs table each, CSV a file each
+(``SECTION-TABLE.csv``), JSON under ``sections`` (:meth:`StudyReport.as_json`).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from collections.abc import Sequence
+from typing import Any
+
+from gaitgram import jsonio
+from gaitgram.study.model import (
+    Column,
+    Kind,
+    Section,
+    StudyReport,
+    Table,
+    cell_text,
+    p_text,
+    share_text,
+    value_text,
+)
+
+# ---- Markdown ------------------------------------------------------------------------------------
+
+
+def markdown(report: StudyReport) -> str:
+    """Every section in order; figures are the files beside it (a section of figures only is not
+    in it)."""
+    lines = [f"# {report.title}"] if report.title else []
+    for section in report.document:
+        lines += _markdown_section(section)
+    if not report.title:
+        lines = lines[1:]  # the first section's blank line before it
+    return "\n".join(lines) + "\n"
+
+
+def _markdown_section(section: Section) -> list[str]:
+    if not (section.text or section.tables or section.tests or section.notes or section.footnote):
+        return []
+    lines = []
+    if section.title:
+        scope = f" ({section.scope})" if section.scope else ""
+        lines += ["", f"**{section.title}**{scope}:"]
+    if section.text:
+        lines += ["", section.text]
+    for table in section.tables:
+        lines += ["", *_markdown_table(table)]
+    for tests in section.tests:
+        comparison = tests.comparison
+        lines += [
+            "",
+            f"**{tests.label}**: Kruskal-Wallis H = {value_text(comparison.kruskal_h)}, "
+            f"p = {p_text(comparison.kruskal_p)}.",
+            "",
+            *_markdown_table(tests.table()),
+        ]
+    if section.notes:
+        lines += ["", *(f"- {note}" for note in section.notes)]
+    if section.footnote:
+        lines += ["", section.footnote]
+    return lines
+
+
+def left_aligned(column: Column) -> bool:
+    return column.kind in (Kind.TEXT, Kind.INTERVAL)
+
+
+def _markdown_table(table: Table) -> list[str]:
+    caption = [f"*{table.caption}*", ""] if table.caption else []
+    return [
+        *caption,
+        "| " + " | ".join(c.header for c in table.columns) + " |",
+        "|" + "|".join("---" if left_aligned(c) else "---:" for c in table.columns) + "|",
+        *(
+            "| " + " | ".join(cell_text(c.kind, v) for c, v in zip(table.columns, row, strict=True)) + " |"
+            for row in table.rows
+        ),
+    ]
+
+
+# ---- CSV -----------------------------------------------------------------------------------------
+
+_SUMMARY_CSV = (
+    "arm",
+    "strategy",
+    "runs",
+    "mean_best",
+    "sd_best",
+    "median_best",
+    "median_best_ci_low",
+    "median_best_ci_high",
+    "mean_average",
+    "sd_average",
+    "mean_average_viable",
+    "unviable_share",
+    "walk_rate",
+    "walk_held_rate",
+)
+
+
+def _csv(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(header)
+    writer.writerows(["" if value is None else value for value in row] for row in rows)
+    return out.getvalue()
+
+
+def csv_text(report: StudyReport) -> str:
+    """``summary.csv``: the summary, raw numbers, one row per arm."""
+    return _csv(
+        _SUMMARY_CSV,
+        [
+            (
+                s.name,
+                s.strategy,
+                s.runs,
+                s.mean_best,
+                s.sd_best,
+                s.median_best,
+                *s.median_best_ci,
+                s.mean_average,
+                s.sd_average,
+                s.mean_average_viable,
+                s.unviable_share,
+                s.walk_rate,
+                s.walk_held_rate,
+            )
+            for s in report.summaries
+        ],
+    )
+
+
+def section_csv(report: StudyReport) -> dict[str, str]:
+    """A CSV file of raw values for each table of the further sections (file name -> text)."""
+    files = {}
+    for section in report.sections:
+        for table in section.tables:
+            header: list[str] = []
+            for column in table.columns:
+                interval = (f"{column.key}_ci_low", f"{column.key}_ci_high")
+                header += [column.key, *interval] if column.kind is Kind.INTERVAL else [column.key]
+            rows = [_flat(table.columns, row) for row in table.rows]
+            files[f"{section.name}-{table.name}.csv"] = _csv(header, rows)
+    return files
+
+
+def _flat(columns: Sequence[Column], row: Sequence[Any]) -> list[Any]:
+    values: list[Any] = []
+    for column, value in zip(columns, row, strict=True):
+        values += list(value) if column.kind is Kind.INTERVAL else [value]
+    return values
+
+
+# ---- LaTeX ---------------------------------------------------------------------------------------
+
+
+def _tex(text: str) -> str:
+    for char, escaped in (
+        ("\\", r"\textbackslash{}"),
+        ("&", r"\&"),
+        ("%", r"\%"),
+        ("_", r"\_"),
+        ("#", r"\#"),
+    ):
+        text = text.replace(char, escaped)
+    return text
+
+
+def _tabular(comment: str, spec: str, header: str, rows: Sequence[str]) -> list[str]:
+    """One booktabs table, after a comment line saying what it holds."""
+    return [
+        f"% {comment}",
+        f"\\begin{{tabular}}{{{spec}}}",
+        "\\toprule",
+        f"{header} \\\\",
+        "\\midrule",
+        *(f"{row} \\\\" for row in rows),
+        "\\bottomrule",
+        "\\end{tabular}",
+        "",
+    ]
+
+
+def latex(report: StudyReport) -> str:
+    """Booktabs tables, ready for ``\\usepackage{booktabs}``: the summary and the final best's
+    pairwise tests, then every table of the further sections."""
+    g = value_text
+    summary = [
+        f"{_tex(s.name)} & {s.runs} & {g(s.mean_best)} & {g(s.sd_best)} & {g(s.mean_average)} & "
+        f"{g(s.sd_average)} & {_tex(share_text(s.walk_rate))} & {_tex(share_text(s.walk_held_rate))}"
+        for s in report.summaries
+    ]
+    pairs = [
+        f"{_tex(p.first)} vs {_tex(p.second)} & {p_text(p.p_holm)} & {p.a12:.3f} & {p.magnitude}"
+        for p in report.best.pairs
+    ]
+    lines = [
+        *_tabular(
+            "gaitgram study report: final best and average over runs (mean and SD).",
+            "lrrrrrrr",
+            "Arm & Runs & Avg.\\ best & SD & Avg.\\ avg. & SD & Walk rate & Walk held",
+            summary,
+        ),
+        *_tabular(
+            "Pairwise two-sided Mann-Whitney U on the final best, Holm-adjusted; Vargha-Delaney A12.",
+            "lrrl",
+            "Pair & $p$ (Holm) & $A_{12}$ & Effect",
+            pairs,
+        ),
+    ]
+    for section in report.sections:
+        tables = [*section.tables, *(tests.table() for tests in section.tests)]
+        labels = [t.caption for t in section.tables] + [f"rank tests, {t.label}" for t in section.tests]
+        for table, label in zip(tables, labels, strict=True):
+            lines += _tabular(
+                f"{section.title}: {label}" if label else section.title,
+                "".join("l" if left_aligned(c) else "r" for c in table.columns),
+                " & ".join(_tex(c.header) for c in table.columns),
+                [
+                    " & ".join(_tex(cell_text(c.kind, v)) for c, v in zip(table.columns, row, strict=True))
+                    for row in table.rows
+                ],
+            )
+    return "\n".join(lines)
+
+
+# ---- JSON ----------------------------------------------------------------------------------------
+
+
+def json_text(report: StudyReport) -> str:
+    return jsonio.dumps(report.as_json(), indent=1) + "\n"
+
+
+def text_files(report: StudyReport) -> dict[str, str]:
+    """Every text file of the report (name -> text), in the order they are written."""
+    return {
+        "summary.md": markdown(report),
+        "summary.csv": csv_text(report),
+        "tables.tex": latex(report),
+        "summary.json": json_text(report),
+        **section_csv(report),
+    }

@@ -1,0 +1,131 @@
+"""Animated gaits for a report: trade-offs along a front, repertoire cells.
+
+Which gaits (:func:`gaits_section`) is data, decided before anything is
+written: a cell no run filled is refused then. Each gait is drawn through its
+run's own pipeline, as ``gaitgram render --run`` draws one: the run's codons,
+backend settings and joint freedom at its last generation. Only the
+``mujoco-horse`` backend draws; MuJoCo must find an offscreen OpenGL
+(``MUJOCO_GL=egl``, set by the report command before MuJoCo is imported).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
+from gaitgram.pipeline import PipelineError
+from gaitgram.strategies.kept import Front, Repertoire
+from gaitgram.study.model import Figure, Gait, Section, figure_name
+from gaitgram.study.records import ArmRecord, ReportError
+
+#: The backend gaits are drawn on.
+DRAWN_ON = "mujoco-horse"
+
+
+class GalleryError(ValueError):
+    """A gait that cannot be drawn; says why."""
+
+
+def _spread(count: int, wanted: int) -> np.ndarray:
+    """``wanted`` indices spread evenly over ``count`` items, both ends included."""
+    return np.unique(np.linspace(0, count - 1, min(wanted, count)).round().astype(int))
+
+
+def trade_offs(front: Front, count: int) -> list[dict[str, Any]]:
+    """``count`` members spread along the front, from the best in the first objective to the best
+    in the last (both extremes included when ``count`` >= 2)."""
+    if not front.members or count <= 0:
+        return []
+    order = np.argsort(front.points[:, 0], kind="stable")
+    return [front.members[order[i]] for i in _spread(len(order), count)]
+
+
+def spread_cells(repertoire: Repertoire, count: int) -> list[tuple[int, ...]]:
+    """``count`` filled cells spread along the first descriptor (slow to fast on the horse)."""
+    cells = sorted(repertoire.elites, key=lambda c: (c, repertoire.best[c]))
+    if not cells or count <= 0:
+        return []
+    return [cells[i] for i in _spread(len(cells), count)]
+
+
+def _gif(stem: str, caption: str, arm: ArmRecord, genome: Sequence[int]) -> Figure:
+    return Figure(stem, caption, Gait(arm.path, tuple(genome)), ("gif",))
+
+
+def gaits_section(
+    arms: Sequence[ArmRecord],
+    fronts: Mapping[str, Sequence[Front]],
+    repertoires: Mapping[str, Repertoire | None],
+    cells: Mapping[str, Sequence[tuple[int, ...]]],
+    *,
+    gaits: int,
+) -> Section | None:
+    """The GIFs a report makes: ``gaits`` trade-offs spread along each front (run 0's); the best
+    gaits of the ``cells`` of each repertoire. A cell no run filled is a :class:`ReportError`."""
+    figures: list[Figure] = []
+    for arm in arms:
+        found = fronts[arm.name]
+        if found and gaits:
+            members = trade_offs(found[0], gaits)
+            for k, member in enumerate(members):
+                caption = f"{arm.name}: trade-off {k + 1} of {len(members)} along run 0's front"
+                figures.append(
+                    _gif(figure_name("front", f"{arm.name}-{k}", ""), caption, arm, member["genome"])
+                )
+        repertoire = repertoires[arm.name]
+        if repertoire is not None:
+            chosen = cells.get(arm.name, ())
+            missing = [c for c in chosen if c not in repertoire.elites]
+            if missing:
+                raise ReportError(
+                    f"arm {arm.name}: cell {','.join(map(str, missing[0]))} is empty in every run; filled: "
+                    + " ".join(",".join(map(str, c)) for c in sorted(repertoire.elites))
+                )
+            for cell in chosen:
+                where = ",".join(map(str, cell))
+                stem = figure_name("cell", f"{arm.name}-{'-'.join(map(str, cell))}", "")
+                caption = f"{arm.name}: the best gait of cell {where}"
+                figures.append(_gif(stem, caption, arm, repertoire.elites[cell]["genome"]))
+    if not figures:
+        return None
+    return Section("gaits", "Gaits", "animated, as scored", figures=tuple(figures))
+
+
+def render_gaits(
+    run_directory: Path, genomes: Sequence[Sequence[int]], paths: Sequence[Path], fps: int = 20
+) -> None:
+    """One GIF per genome (``paths[i]`` for ``genomes[i]``), scored as the run scored it."""
+    try:
+        directory = RunDirectory.open(run_directory)
+    except RunDirectoryError as error:
+        raise GalleryError(str(error)) from None
+    pipeline = directory.pipeline
+    if pipeline.backend != DRAWN_ON:
+        raise GalleryError(
+            f"gaits are drawn on the {DRAWN_ON} backend; {run_directory} uses {pipeline.backend!r}"
+        )
+    from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
+    from gaitgram.backends.mujoco_horse.render import RenderError, render_frames, write_animation
+
+    generation = pipeline.config.generations
+    try:
+        evaluator = pipeline.load_evaluator({"threads": 1})
+    except PipelineError as error:
+        raise GalleryError(str(error)) from None
+    try:
+        assert isinstance(evaluator, HorseEvaluator)
+        for genome, path in zip(genomes, paths, strict=True):
+            mapped = pipeline.map([tuple(genome)])
+            batch = pipeline.motion(mapped, generation)
+            if batch.problems[0] is not None:
+                raise GalleryError(f"{path.name}: {batch.details[0]}")
+            control = evaluator.controls(batch, np.array([0]))[0]
+            write_animation(render_frames(evaluator, control, fps=fps), path, fps)
+    except RenderError as error:
+        raise GalleryError(str(error)) from None
+    finally:
+        evaluator.close()

@@ -1,0 +1,547 @@
+"""A study report as data: what every format shows, computed once, drawn by the renderers.
+
+A :class:`StudyReport` holds the per-arm summaries (:class:`ArmSummary`), the
+rank tests (:class:`~gaitgram.study.stats.Comparison`) and the report's
+**sections** (:class:`Section`) in document order: the summary, then further
+sections such as the fronts and repertoires of ``nsga2`` and ``map-elites`` arms
+or the animated gaits. A section is plain data: a title, text, named
+:class:`Table` s (columns of a :class:`Kind`, rows of raw values), rank tests,
+notes and named :class:`Figure` s (the data a figure is drawn from, or a gait
+to animate).
+
+**Adding a section** (issue 26's realism and robustness, say) is building one
+more :class:`Section` and putting it in :attr:`StudyReport.sections`: every
+renderer draws every section generically. Markdown and HTML draw all of it;
+LaTeX a booktabs table per table; CSV a file per table
+(``SECTION-TABLE.csv``); JSON the tables and tests under ``sections``; the
+figures are written as files and embedded in the HTML (a new kind of figure
+data needs a drawer in :mod:`gaitgram.study.figures`). The summary itself is
+drawn generically in Markdown and HTML, and in its committed layouts in
+``summary.csv``, ``tables.tex`` and ``summary.json``, which studies in
+docs/results keep byte for byte.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from enum import Enum
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from gaitgram.strategies.kept import Front, Repertoire
+from gaitgram.study.records import ArmRecord, ReportError, check_comparable
+from gaitgram.study.stats import Comparison, bootstrap_median_ci, compare
+
+# ---- the building blocks of a section --------------------------------------------------------
+
+
+class Kind(Enum):
+    """What a column's values are, which says how each format writes them: CSV and JSON keep the
+    raw values, Markdown, LaTeX and HTML format them (:func:`cell_text`)."""
+
+    TEXT = "text"
+    COUNT = "count"  # a whole number
+    VALUE = "value"  # four significant digits
+    P = "p"  # a p-value: four decimals, "< 0.0001"
+    SHARE = "share"  # a share (0..1), in whole percent
+    A12 = "a12"  # three decimals
+    INTERVAL = "interval"  # (value, low, high): "value [low, high]"
+
+
+def value_text(value: float | None, digits: int = 4) -> str:
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "n/a"
+    return f"{value:.{digits}g}"
+
+
+def p_text(value: float) -> str:
+    if math.isnan(value):
+        return "n/a"
+    return "< 0.0001" if value < 1e-4 else f"{value:.4f}"
+
+
+def share_text(value: float | None) -> str:
+    """A share in whole percent, except that a small share never reads as none."""
+    if value is None:
+        return "n/a"
+    if 0 < value < 0.01:
+        return "< 0.1%" if value < 0.001 else f"{value:.1%}"
+    return f"{value:.0%}"
+
+
+def cell_text(kind: Kind, value: Any) -> str:
+    """A table cell as Markdown, LaTeX and HTML show it."""
+    if kind is Kind.TEXT:
+        return str(value)
+    if kind is Kind.COUNT:
+        return "n/a" if value is None else str(value)
+    if kind is Kind.P:
+        return p_text(value)
+    if kind is Kind.SHARE:
+        return share_text(value)
+    if kind is Kind.A12:
+        return f"{value:.3f}"
+    if kind is Kind.INTERVAL:
+        middle, low, high = value
+        return f"{value_text(middle)} [{value_text(low)}, {value_text(high)}]"
+    return value_text(value)
+
+
+@dataclass(frozen=True)
+class Column:
+    key: str  # the CSV header and JSON key
+    header: str  # the Markdown, LaTeX and HTML header
+    kind: Kind = Kind.VALUE
+
+
+@dataclass(frozen=True)
+class Table:
+    name: str  # names its CSV file and JSON key; unique within its section
+    columns: tuple[Column, ...]
+    rows: tuple[tuple[Any, ...], ...]  # raw values (None: no value), one per column
+    caption: str = ""
+
+
+@dataclass(frozen=True)
+class RankTests:
+    """The rank tests of one measure, one value per run (e.g. each run's final best)."""
+
+    label: str  # "final best"
+    comparison: Comparison
+
+    def table(self) -> Table:
+        return Table(
+            "pairs",
+            (
+                Column("pair", "pair", Kind.TEXT),
+                Column("u", "U"),
+                Column("p", "p", Kind.P),
+                Column("p_holm", "p (Holm)", Kind.P),
+                Column("a12", "A12", Kind.A12),
+                Column("effect", "effect", Kind.TEXT),
+            ),
+            tuple(
+                (f"{p.first} vs {p.second}", p.u, p.p_value, p.p_holm, p.a12, p.magnitude)
+                for p in self.comparison.pairs
+            ),
+        )
+
+
+@dataclass(frozen=True)
+class Figure:
+    """A figure the report writes as files (``NAME.png``, ...) and embeds in its HTML; ``data`` is
+    what :mod:`gaitgram.study.figures` draws (or, for a ``.gif``, the gait the gallery animates)."""
+
+    name: str
+    caption: str
+    data: Any
+    formats: tuple[str, ...] = ("png",)
+
+    @property
+    def files(self) -> tuple[str, ...]:
+        return tuple(f"{self.name}.{suffix}" for suffix in self.formats)
+
+
+def figure_name(kind: str, arm: str, suffix: str = ".png") -> str:
+    """A file name for an arm's figure (arm names may be paths)."""
+    return f"{kind}-{re.sub(r'[^A-Za-z0-9_.-]+', '_', arm).strip('_.') or 'arm'}{suffix}"
+
+
+@dataclass(frozen=True)
+class Section:
+    """One part of the report, drawn by every renderer (see the module's docstring)."""
+
+    name: str  # an identifier: names the section in JSON and its tables' CSV files
+    title: str = ""  # none: the section continues the one before (the summary has none)
+    scope: str = ""  # what the section covers, after the title: "final generation"
+    text: str = ""  # a paragraph before the tables (Markdown inline: *em*, **strong**, `code`)
+    tables: tuple[Table, ...] = ()
+    tests: tuple[RankTests, ...] = ()
+    notes: tuple[str, ...] = ()  # a list after the tests (Markdown inline)
+    footnote: str = ""
+    figures: tuple[Figure, ...] = ()
+
+
+# ---- figure data -----------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Band:
+    """A measure by generation: the mean over runs and the half-width of its 95 % confidence
+    interval (t interval of the mean; None for one run)."""
+
+    mean: np.ndarray
+    half: np.ndarray | None
+
+    @classmethod
+    def of(cls, values: np.ndarray) -> Band:
+        """From ``values[run, generation]``."""
+        from scipy import stats
+
+        runs = values.shape[0]
+        mean = values.mean(axis=0)
+        if runs < 2:
+            return cls(mean, None)
+        sem = values.std(axis=0, ddof=1) / math.sqrt(runs)
+        return cls(mean, sem * stats.t.ppf(0.975, runs - 1))
+
+
+@dataclass(frozen=True)
+class Curves:
+    """One arm's convergence: best and average fitness by generation."""
+
+    arm: str
+    runs: int
+    best: Band
+    average: Band
+
+
+@dataclass(frozen=True)
+class Convergence:
+    arms: tuple[Curves, ...]
+
+
+@dataclass(frozen=True)
+class Fronts:
+    """An arm's final Pareto fronts, one per run that keeps one."""
+
+    arm: str
+    fronts: tuple[Front, ...]
+
+
+@dataclass(frozen=True)
+class RepertoireMap:
+    """An arm's merged repertoire, with the cells the report animates outlined."""
+
+    arm: str
+    repertoire: Repertoire
+    chosen: tuple[tuple[int, ...], ...]
+
+
+@dataclass(frozen=True)
+class Gait:
+    """A gait to animate: a genome, drawn through its run directory's own pipeline."""
+
+    run_directory: Path
+    genome: tuple[int, ...]
+
+
+# ---- the summary ----------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ArmSummary:
+    name: str
+    strategy: str
+    runs: int
+    mean_best: float
+    sd_best: float
+    median_best: float
+    median_best_ci: tuple[float, float]
+    mean_average: float
+    sd_average: float
+    mean_average_viable: float
+    unviable_share: float
+    walk_rate: float | None
+    walk_held_rate: float | None
+
+
+def summarise(arm: ArmRecord) -> ArmSummary:
+    best, average = arm.final_best, arm.final_average
+    viable = arm.final_average_viable
+    return ArmSummary(
+        arm.name,
+        arm.strategy,
+        len(arm.runs),
+        float(best.mean()),
+        float(best.std(ddof=1)) if len(best) > 1 else math.nan,
+        float(np.median(best)),
+        bootstrap_median_ci(best),
+        float(average.mean()),
+        float(average.std(ddof=1)) if len(average) > 1 else math.nan,
+        float(np.nanmean(viable)) if np.isfinite(viable).any() else math.nan,
+        float(arm.final_unviable_share.mean()),
+        arm.walk_rate,
+        arm.walk_held_rate,
+    )
+
+
+SUMMARY_TEXT = (
+    "Final generation, over runs. Fitness is minimised. *Average* is the population's mean over "
+    "every individual, unviable gaits at their score (the paper's Avg. Avg.); *viable average* "
+    "leaves them out. *Walk rate*: the share of runs whose best gait is a walk; *walk held*: the "
+    "share whose final population (a `nsga2` run's Pareto front, a `map-elites` run's "
+    "repertoire) holds one."
+)
+A12_NOTE = (
+    "A12 is the probability that a run of the first arm ends with a lower (better) value than a "
+    "run of the second (0.5: no difference; 0.56, 0.64 and 0.71 mark small, medium and large "
+    "effects). p-values are two-sided Mann-Whitney U, Holm-adjusted over the pairs."
+)
+
+
+def summary_table(summaries: Sequence[ArmSummary]) -> Table:
+    """The paper's Table 4/5 layout, with the statistics it did not compute."""
+    value = Kind.VALUE
+    return Table(
+        "summary",
+        (
+            Column("arm", "arm", Kind.TEXT),
+            Column("runs", "runs", Kind.COUNT),
+            Column("mean_best", "avg. best", value),
+            Column("sd_best", "SD", value),
+            Column("mean_average", "avg. average", value),
+            Column("sd_average", "SD", value),
+            Column("median_best", "median best [95 % CI]", Kind.INTERVAL),
+            Column("mean_average_viable", "viable average", value),
+            Column("unviable_share", "unviable", Kind.SHARE),
+            Column("walk_rate", "walk rate", Kind.SHARE),
+            Column("walk_held_rate", "walk held", Kind.SHARE),
+        ),
+        tuple(
+            (
+                s.name,
+                s.runs,
+                s.mean_best,
+                s.sd_best,
+                s.mean_average,
+                s.sd_average,
+                (s.median_best, *s.median_best_ci),
+                s.mean_average_viable,
+                s.unviable_share,
+                s.walk_rate,
+                s.walk_held_rate,
+            )
+            for s in summaries
+        ),
+    )
+
+
+def convergence(arms: Sequence[ArmRecord]) -> Convergence:
+    return Convergence(
+        tuple(
+            Curves(
+                arm.name,
+                len(arm.runs),
+                Band.of(np.array([r.best for r in arm.runs])),
+                Band.of(np.array([r.average for r in arm.runs])),
+            )
+            for arm in arms
+        )
+    )
+
+
+CONVERGENCE_CAPTION = (
+    "Best (left) and average (right) fitness by generation: the mean over runs with its 95 % "
+    "confidence band, as the paper's Figures 3, 4 and 6 (lower is better)."
+)
+
+
+# ---- fronts and repertoires ------------------------------------------------------------------
+
+
+def saturation(front_sizes: list[int], population: int) -> str:
+    """A warning when the whole population is non-dominated, common with three or more
+    objectives: Pareto rank then tells no gait from another and NSGA-II selects by crowding
+    alone, spreading the population along the front instead of pressing it forward."""
+    whole = sum(size >= population for size in front_sizes)
+    if not whole:
+        return ""
+    return (
+        f". In {whole} of {len(front_sizes)} runs the final front is the whole population "
+        f"({population}): rank no longer selects, crowding alone does; fewer objectives "
+        "(strategy setting `objectives`) restore the pressure"
+    )
+
+
+def fronts_section(
+    arms: Sequence[ArmRecord],
+    fronts: Mapping[str, Sequence[Front]],
+    repertoires: Mapping[str, Repertoire | None],
+    outlined: Mapping[str, Sequence[tuple[int, ...]]],
+) -> Section | None:
+    """The fronts of ``nsga2`` arms and the repertoires of ``map-elites`` arms, with their figures
+    (the fronts' first); ``outlined``: the cells of each repertoire the report animates. None if no
+    arm keeps either."""
+    notes: list[str] = []
+    front_figures: list[Figure] = []
+    archive_figures: list[Figure] = []
+    for arm in arms:
+        found, repertoire = fronts[arm.name], repertoires[arm.name]
+        if found:
+            name = figure_name("front", arm.name, "")
+            names = found[0].objectives
+            best = np.mean([f.points.min(axis=0) for f in found if len(f.points)], axis=0)
+            sizes = [len(f.points) for f in found]
+            notes.append(
+                f"**{arm.name}** ({name}.png): Pareto fronts of {np.mean(sizes):.1f} "
+                f"gaits on average; the best of each objective, mean over runs: "
+                + ", ".join(f"{n} {value_text(v)}" for n, v in zip(names, np.atleast_1d(best), strict=False))
+                + saturation(sizes, arm.population)
+            )
+            caption = f"{arm.name}: the final Pareto fronts, objectives pairwise (lower is better)"
+            front_figures.append(Figure(name, caption, Fronts(arm.name, tuple(found))))
+        if repertoire is not None:
+            name = figure_name("archive", arm.name, "")
+            together = int(np.sum(repertoire.coverage > 0))
+            described = ", ".join(d["name"] for d in repertoire.descriptors)
+            notes.append(
+                f"**{arm.name}** ({name}.png): "
+                f"{described}; {np.mean(repertoire.filled):.1f} of "
+                f"{repertoire.cells} cells filled per run, {together} by the runs together; best gait "
+                f"{value_text(float(np.nanmin(repertoire.best)))}"
+            )
+            caption = f"{arm.name}: the best fitness in each cell, and how many runs filled it"
+            cells = tuple(outlined.get(arm.name, ()))
+            archive_figures.append(Figure(name, caption, RepertoireMap(arm.name, repertoire, cells)))
+    if not notes:
+        return None
+    figures = (*front_figures, *archive_figures)
+    return Section(
+        "fronts", "Fronts and repertoires", "final generation", notes=tuple(notes), figures=figures
+    )
+
+
+# ---- the report ------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class StudyReport:
+    arms: tuple[ArmRecord, ...]
+    summaries: tuple[ArmSummary, ...]
+    best: Comparison  # on each run's final best
+    average: Comparison  # on each run's final average
+    title: str = ""
+    #: The sections after the summary, in order: fronts and repertoires, the animated gaits.
+    sections: tuple[Section, ...] = ()
+
+    @property
+    def summary(self) -> Section:
+        """The summary: the tables of the paper and every difference tested."""
+        return Section(
+            "summary",
+            text=SUMMARY_TEXT,
+            tables=(summary_table(self.summaries),),
+            tests=(RankTests("final best", self.best), RankTests("final average", self.average)),
+            footnote=A12_NOTE,
+            figures=(Figure("convergence", CONVERGENCE_CAPTION, convergence(self.arms), ("png", "svg")),),
+        )
+
+    @property
+    def document(self) -> tuple[Section, ...]:
+        """Every section in order, as Markdown draws them: the summary, then :attr:`sections`."""
+        return (self.summary, *self.sections)
+
+    @property
+    def figures(self) -> tuple[Figure, ...]:
+        return tuple(f for s in self.document for f in s.figures)
+
+    def as_json(self) -> dict[str, Any]:
+        """The summary in its committed layout, then the further sections' tables and tests (if any
+        section has either)."""
+        data: dict[str, Any] = {
+            "backend": self.arms[0].backend,
+            "backend_version": self.arms[0].backend_version,
+            "arms": [
+                {
+                    "name": s.name,
+                    "strategy": s.strategy,
+                    "runs": s.runs,
+                    "budget": a.budget,
+                    "final_best": [float(v) for v in a.final_best],
+                    "final_average": [float(v) for v in a.final_average],
+                    "mean_best": s.mean_best,
+                    "sd_best": s.sd_best,
+                    "median_best": s.median_best,
+                    "median_best_ci95": list(s.median_best_ci),
+                    "mean_average": s.mean_average,
+                    "sd_average": s.sd_average,
+                    "mean_average_viable": s.mean_average_viable,
+                    "unviable_share": s.unviable_share,
+                    "walk_rate": s.walk_rate,
+                    "walk_held_rate": s.walk_held_rate,
+                }
+                for s, a in zip(self.summaries, self.arms, strict=True)
+            ],
+            "kruskal_wallis": {
+                "best": {"h": self.best.kruskal_h, "p": self.best.kruskal_p},
+                "average": {"h": self.average.kruskal_h, "p": self.average.kruskal_p},
+            },
+            "pairs": [
+                {
+                    "first": p.first,
+                    "second": p.second,
+                    "best": {"u": p.u, "p": p.p_value, "p_holm": p.p_holm, "a12": p.a12},
+                    "average": {"u": q.u, "p": q.p_value, "p_holm": q.p_holm, "a12": q.a12},
+                }
+                for p, q in zip(self.best.pairs, self.average.pairs, strict=True)
+            ],
+        }
+        sections = {s.name: _section_json(s) for s in self.sections if s.tables or s.tests}
+        if sections:
+            data["sections"] = sections
+        return data
+
+
+def _section_json(section: Section) -> dict[str, Any]:
+    return {
+        "title": section.title,
+        "tables": {t.name: [_row_json(t.columns, row) for row in t.rows] for t in section.tables},
+        "tests": {
+            t.label: {
+                "kruskal_wallis": {"h": t.comparison.kruskal_h, "p": t.comparison.kruskal_p},
+                "pairs": [
+                    {
+                        "first": p.first,
+                        "second": p.second,
+                        "u": p.u,
+                        "p": p.p_value,
+                        "p_holm": p.p_holm,
+                        "a12": p.a12,
+                    }
+                    for p in t.comparison.pairs
+                ],
+            }
+            for t in section.tests
+        },
+    }
+
+
+def _row_json(columns: Sequence[Column], row: Sequence[Any]) -> dict[str, Any]:
+    record: dict[str, Any] = {}
+    for column, value in zip(columns, row, strict=True):
+        if column.kind is Kind.INTERVAL:
+            record[column.key], *interval = value
+            record[f"{column.key}_ci95"] = interval
+        else:
+            record[column.key] = value
+    return record
+
+
+def build_report(
+    arms: Sequence[ArmRecord],
+    *,
+    title: str = "",
+    sections: Sequence[Section] = (),
+) -> StudyReport:
+    """The report of ``arms``: each arm summarised, every difference tested; ``sections`` follow the
+    summary."""
+    if not arms:
+        raise ReportError("nothing to report: no arms")
+    check_comparable(list(arms))
+    names = [a.name for a in arms]
+    if len(set(names)) != len(names):
+        raise ReportError(f"two arms are called {next(n for n in names if names.count(n) > 1)!r}")
+    return StudyReport(
+        tuple(arms),
+        tuple(summarise(a) for a in arms),
+        compare({a.name: a.final_best for a in arms}),
+        compare({a.name: a.final_average for a in arms}),
+        title,
+        tuple(sections),
+    )

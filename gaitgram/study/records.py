@@ -1,0 +1,339 @@
+"""What a study report reads: run directories, as untrusted input.
+
+The input is a set of arms, each a run directory of ``gaitgram evolve`` (a
+study directory's ``arms/*``, or run directories given one by one). Every file
+is checked as it is read: the configuration key by key (and against the
+manifest's digest), every line of each run's ``stats.jsonl`` and its
+``best.json`` field by field, fronts and repertoires member by member. A record
+that does not read is a :class:`ReportError` naming the file (and line) and the
+command that rewrites it from the run's checkpoint; no number computed from it
+ever reaches a statistic.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from gaitgram.evolution.rundir import CONFIG, MANIFEST, RunDirectoryError, read_manifest, saved_config
+from gaitgram.strategies.kept import RecordError, kept_members
+from gaitgram.study.manifest import STUDY_MANIFEST, read_study_manifest
+from gaitgram.study.spec import StudyError
+
+
+class ReportError(ValueError):
+    """Run directories that cannot be reported together; the message says why."""
+
+
+@dataclass(frozen=True)
+class RunRecord:
+    """One run's history and its final best individual."""
+
+    best: np.ndarray  # per generation
+    average: np.ndarray  # per generation, over every individual (unviable at their score)
+    average_viable: np.ndarray  # per generation, over viable individuals (NaN if none)
+    unviable_share: np.ndarray  # per generation
+    evaluations: int
+    final_status: str
+    walk: bool | None  # the final best is a walk (None: the backend does not say)
+    #: What the run hands back holds a walk: its repertoire, its Pareto front, or else its final
+    #: population (None: the backend or the records do not say).
+    holds_walk: bool | None = None
+
+
+@dataclass(frozen=True)
+class ArmRecord:
+    name: str
+    strategy: str
+    path: Path
+    budget: int  # planned evaluations per run (new genomes, not re-scored elites)
+    generations: int
+    population: int
+    runs: tuple[RunRecord, ...]
+    #: What scored the runs: the backend and its version (its fitness revision), from the manifest.
+    backend: str = ""
+    backend_version: str = ""
+
+    @property
+    def final_best(self) -> np.ndarray:
+        return np.array([r.best[-1] for r in self.runs])
+
+    @property
+    def final_average(self) -> np.ndarray:
+        return np.array([r.average[-1] for r in self.runs])
+
+    @property
+    def final_average_viable(self) -> np.ndarray:
+        return np.array([r.average_viable[-1] for r in self.runs])
+
+    @property
+    def final_unviable_share(self) -> np.ndarray:
+        return np.array([r.unviable_share[-1] for r in self.runs])
+
+    @property
+    def walk_rate(self) -> float | None:
+        return _share([r.walk for r in self.runs])
+
+    @property
+    def walk_held_rate(self) -> float | None:
+        return _share([r.holds_walk for r in self.runs])
+
+
+def _share(flags: list[bool | None]) -> float | None:
+    """The share of true flags; None if any run's records do not say."""
+    if any(flag is None for flag in flags):
+        return None
+    return sum(bool(flag) for flag in flags) / len(flags)
+
+
+def load_arm(
+    path: Path,
+    name: str | None = None,
+    strategy: str | None = None,
+    *,
+    redo: str = "",
+) -> ArmRecord:
+    """An arm from a finished run directory; refuses unfinished, unreadable or damaged runs.
+
+    Every file is untrusted input: the configuration is checked key by key (and against the
+    manifest's digest, when there is one), every line of each run's ``stats.jsonl`` and its
+    ``best.json`` field by field. ``redo`` is the command that rewrites a run's records from
+    its checkpoint (default: ``gaitgram evolve --resume`` of the arm).
+    """
+    if not (path / CONFIG).is_file() and not (path / MANIFEST).is_file():
+        raise ReportError(f"{path}: not a `gaitgram evolve` run directory (it has no {CONFIG})")
+    try:
+        manifest = read_manifest(path)
+        config = saved_config(path, manifest)
+    except RunDirectoryError as error:
+        raise ReportError(str(error)) from None
+    redo = redo or f"gaitgram evolve --resume {path}"
+    runs = tuple(_load_run(path / f"run-{run:03d}", config.generations, redo) for run in range(config.runs))
+    # What scored the runs (a directory without a manifest, hand-made or of gaitgram 0.1, cannot say).
+    backend, version = (manifest["backend"], manifest["backend_version"]) if manifest else ("", "")
+    return ArmRecord(
+        name or path.name,
+        strategy or config.strategy,
+        path,
+        config.budget,
+        config.generations,
+        config.population,
+        runs,
+        backend,
+        version,
+    )
+
+
+def _load_run(path: Path, generations: int, redo: str) -> RunRecord:
+    rewrite = f"rewrite the run's records from its checkpoint with: {redo}"
+    stats = path / "stats.jsonl"
+    lines = [(n, line) for n, line in enumerate(_lines(stats, rewrite), 1) if line.strip()]
+    records = [
+        _stats_line(line, f"{stats}:{n}", generation, rewrite) for generation, (n, line) in enumerate(lines)
+    ]
+    if len(records) < generations + 1:
+        raise ReportError(
+            f"{path}: the run has {len(records) - 1} of its {generations} generations; finish it first, "
+            f"or if it has finished, {rewrite}"
+        )
+    if len(records) > generations + 1:
+        raise ReportError(
+            f"{stats}: {len(records)} generations, but the run has {generations + 1} (0..{generations}); "
+            f"the file was edited or damaged: {rewrite}"
+        )
+    best_record = _best_record(path / "best.json", records[-1]["best"], rewrite)
+
+    def column(key: str) -> np.ndarray:
+        return np.array([math.nan if r.get(key) is None else float(r[key]) for r in records])
+
+    population = np.array([float(r["evaluations"]) for r in records])
+    invalid = column("invalid")
+    size = population[0] if population[0] else 1.0
+    walk = best_record["components"].get("walk")
+    return RunRecord(
+        best=column("best"),
+        average=column("average_all") if "average_all" in records[0] else column("average"),
+        average_viable=column("average"),
+        unviable_share=invalid / size,
+        evaluations=int(population.sum()),
+        final_status=best_record["status"],
+        walk=None if walk is None else bool(walk >= 0.5 and best_record["status"] == "ok"),
+        holds_walk=_holds_walk(path, records[-1]),
+    )
+
+
+def _lines(path: Path, rewrite: str) -> list[str]:
+    try:
+        return path.read_text(encoding="utf-8").splitlines()
+    except FileNotFoundError:
+        raise ReportError(f"{path} is missing; {rewrite}") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise ReportError(f"{path}: cannot read it ({error}); {rewrite}") from None
+
+
+def _finite(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _count(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
+
+
+def _stats_line(line: str, where: str, generation: int, rewrite: str) -> dict[str, Any]:
+    """One generation's statistics, as gaitgram writes them: a non-finite number is never one.
+    ``where`` is the file and line, as the user's editor numbers it (blank lines included)."""
+    damaged = f"the file was edited or damaged: {rewrite}"
+    try:
+        record = json.loads(line)
+    except ValueError as error:
+        raise ReportError(f"{where}: not JSON ({error}); {damaged}") from None
+    if not isinstance(record, dict):
+        raise ReportError(f"{where}: not a record of one generation; {damaged}")
+    if record.get("generation") != generation or not _count(record.get("generation")):
+        raise ReportError(
+            f"{where}: generation: {record.get('generation')!r}, expected {generation}; {damaged}"
+        )
+    for key in ("best", "evaluations"):
+        if key not in record:
+            raise ReportError(f"{where}: {key}: missing; {damaged}")
+    if not _finite(record["best"]):
+        raise ReportError(f"{where}: best: {record['best']!r} is not a finite number; {damaged}")
+    for key in ("evaluations", "invalid"):
+        if key in record and not _count(record[key]):
+            raise ReportError(f"{where}: {key}: {record[key]!r} is not a count; {damaged}")
+    for key, value in record.items():
+        if (key in ("average", "average_all", "std") or key.startswith("mean_")) and not (
+            value is None or _finite(value)
+        ):
+            raise ReportError(f"{where}: {key}: {value!r} is not a finite number (or null); {damaged}")
+    return record
+
+
+def _best_record(path: Path, best: float, rewrite: str) -> dict[str, Any]:
+    """``best.json``'s status and components, checked, and its fitness the statistics' last best."""
+    try:
+        record = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ReportError(f"{path} is missing; {rewrite}") from None
+    except (OSError, ValueError) as error:
+        raise ReportError(f"{path}: cannot read it ({error}); {rewrite}") from None
+    damaged = f"the file was edited or damaged: {rewrite}"
+    if not isinstance(record, dict):
+        raise ReportError(f"{path}: not a record of the best gait; {damaged}")
+    components = record.get("components")
+    if not isinstance(components, dict) or not all(_finite(v) for v in components.values()):
+        raise ReportError(f"{path}: components: not a table of finite numbers; {damaged}")
+    if not isinstance(record.get("status"), str):
+        raise ReportError(f"{path}: status: missing or not text; {damaged}")
+    if record.get("fitness") != best:
+        raise ReportError(
+            f"{path}: fitness {record.get('fitness')!r} is not the last generation's best in stats.jsonl "
+            f"({best!r}); {damaged}"
+        )
+    return record
+
+
+def _holds_walk(path: Path, final: dict[str, Any]) -> bool | None:
+    """Whether the run hands back a walk, even one its weighted best is not: a weighted sum can rank
+    a walk below a gait that misses the walk window (docs/results/revision-3/strategies)."""
+    try:
+        members = kept_members(path)
+    except RecordError as error:
+        raise ReportError(str(error)) from None
+    if members is None:
+        share = final.get("mean_walk")  # over the final population's viable gaits
+        return None if share is None else share > 0
+    walks = [m["components"].get("walk") for m in members]
+    return None if any(w is None for w in walks) else any(w >= 0.5 for w in walks)
+
+
+def load_study_arms(directory: Path) -> list[ArmRecord]:
+    """The arms of a study directory, in the study's order."""
+    return _study_arms(directory)[0]
+
+
+def _study_arms(directory: Path) -> tuple[list[ArmRecord], str]:
+    """The arms of a study directory, in the study's order, and its title."""
+    try:
+        manifest = read_study_manifest(directory)
+    except StudyError as error:
+        raise ReportError(str(error)) from None
+
+    def redo(arm: str) -> str:
+        path = directory / "arms" / arm
+        return f"gaitgram study {manifest.study_file} -o {directory} (or gaitgram evolve --resume {path})"
+
+    arms = [
+        load_arm(directory / "arms" / a.name, a.name, a.strategy, redo=redo(a.name)) for a in manifest.arms
+    ]
+    return arms, manifest.title
+
+
+def load_arms(directories: Sequence[Path]) -> tuple[list[ArmRecord], str]:
+    """The arms of study directories (each gives its arms) and run directories of ``gaitgram
+    evolve`` (each one arm), and the studies' titles. A run directory given twice, under any
+    spelling (a symlink, ``..``, a study and one of its arms), is refused: it would be compared
+    with itself. Two arms of the same name are named by their paths."""
+    arms: list[ArmRecord] = []
+    titles = []
+    for directory in directories:
+        if (directory / STUDY_MANIFEST).is_file():
+            found, title = _study_arms(directory)
+            arms += found
+            titles.append(title)
+        else:
+            arms.append(load_arm(directory))
+    _refuse_duplicates(arms)
+    names = [a.name for a in arms]
+    if len(set(names)) != len(names):
+        arms = [replace(a, name=str(a.path)) for a in arms]
+    return arms, " + ".join(titles)
+
+
+def _refuse_duplicates(arms: list[ArmRecord]) -> None:
+    seen: dict[tuple[int, int], ArmRecord] = {}
+    for arm in arms:
+        info = arm.path.stat()
+        first = seen.setdefault((info.st_dev, info.st_ino), arm)
+        if first is not arm:
+            same = "given twice" if first.path == arm.path else f"the same directory as {first.path}"
+            raise ReportError(
+                f"{arm.path} is {same} ({arm.path.resolve()}): a run directory compared with itself would "
+                "look like two arms that agree; give each run directory once"
+            )
+
+
+def check_scoring(arms: list[ArmRecord]) -> None:
+    """Refuse arms scored by different backends or backend versions (another fitness revision, model
+    or simulator): their fitness values measure different things."""
+    versions = {(a.backend, a.backend_version) for a in arms}
+    if len(versions) > 1:
+        listing = "; ".join(f"{a.name}: {a.backend} {a.backend_version}" for a in arms)
+        raise ReportError(
+            f"these arms were scored differently ({listing}); their fitness values do not compare in one "
+            "table: report them separately, or run them again with one gaitgram"
+        )
+
+
+def check_budgets(arms: list[ArmRecord]) -> None:
+    budgets = {a.budget for a in arms}
+    if len(budgets) > 1:
+        listing = ", ".join(f"{a.name}: {a.budget}" for a in arms)
+        raise ReportError(
+            "these arms were run at different budgets (planned evaluations per run: "
+            f"{listing}); their numbers do not compare in one table: report them separately, or run "
+            "them again with the same generations, population and elite"
+        )
+
+
+def check_comparable(arms: list[ArmRecord]) -> None:
+    """Refuse arms whose numbers do not compare in one table: scored differently, or at different
+    budgets."""
+    check_scoring(arms)
+    check_budgets(arms)

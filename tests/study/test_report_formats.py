@@ -1,0 +1,45 @@
+"""What ``gaitgram report`` writes, pinned to the byte on a small hand-made study: each text format
+is a published layout (committed studies' reports must not churn), so any change to it shows here."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from study.report_fixtures import write_hand_made_study
+from typer.testing import CliRunner
+
+from gaitgram.cli import app
+
+runner = CliRunner()
+EXPECTED = Path(__file__).parent / "data" / "hand-made-report"
+TEXT_FORMATS = ("summary.md", "summary.csv", "tables.tex", "summary.json")
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
+    """The hand-made study's report directory and what the command printed."""
+    tmp = tmp_path_factory.mktemp("hand-made")
+    study = write_hand_made_study(tmp / "study")
+    result = runner.invoke(app, ["report", str(study), "-o", str(tmp / "report")])
+    assert result.exit_code == 0, result.stderr
+    return tmp / "report", result.stdout
+
+
+@pytest.mark.parametrize("name", TEXT_FORMATS)
+def test_each_text_format_is_the_published_layout(report: tuple[Path, str], name: str) -> None:
+    out, _ = report
+    assert (out / name).read_bytes() == (EXPECTED / name).read_bytes()
+
+
+def test_the_printed_summary_is_summary_md(report: tuple[Path, str]) -> None:
+    out, printed = report
+    assert printed == (out / "summary.md").read_text()
+
+
+def test_figures_are_drawn_for_the_arms_that_keep_fronts_and_repertoires(report: tuple[Path, str]) -> None:
+    out, _ = report
+    for name in ("convergence.png", "front-beta_front.png", "archive-gamma.png"):
+        assert (out / name).read_bytes().startswith(b"\x89PNG\r\n\x1a\n"), name
+    svg = (out / "convergence.svg").read_text()
+    assert all(f"{arm} (3 runs)" in svg for arm in ("alpha", "beta_front", "gamma"))  # the legend
