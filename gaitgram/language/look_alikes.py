@@ -16,7 +16,7 @@ from functools import cache
 
 from gaitgram.diagnostics import Applicability, Code, Severity
 from gaitgram.language.model import RangeKind
-from gaitgram.language.parser import range_parser
+from gaitgram.language.parser import terminal
 from gaitgram.language.ranges import RangeEdit, RangeFix, apply_range_edits, range_reads
 
 __all__ = ["CODES", "HINT", "RANGE_LOOK_ALIKE", "LookAlike", "look_alike_ranges"]
@@ -41,12 +41,12 @@ CODES = (RANGE_LOOK_ALIKE,)
 def _look_alike() -> re.Pattern[str]:
     """Any word, ``[``, ``LO..HI`` or ``X ± P%``, an optional step or count, and maybe ``]``."""
 
-    def terminal(name: str) -> str:
-        return f"(?:{range_parser().get_terminal(name).pattern.to_regexp()})"
+    def part(name: str) -> str:
+        return f"(?:{terminal(name).pattern})"
 
-    number, space = terminal("RANGE_NUMBER"), terminal("RANGE_WS")
-    between = f"(?:{terminal('RANGE_DOTS')}|{terminal('RANGE_PLUSMINUS')})"
-    option = f"(?:{terminal('RANGE_STEP')}|{terminal('RANGE_COUNT')})"
+    number, space = part("RANGE_NUMBER"), part("RANGE_WS")
+    between = f"(?:{part('RANGE_DOTS')}|{part('RANGE_PLUSMINUS')})"
+    option = f"(?:{part('RANGE_STEP')}|{part('RANGE_COUNT')})"
     gap = f"{space}?"
     return re.compile(
         rf"(?<![\w\\])(?P<kind>[A-Za-z_]\w*)\[(?P<body>{gap}{number}{gap}{between}{gap}{number}(?:{gap}%)?"

@@ -44,7 +44,7 @@ from gaitgram.language.numbers import (
     units_text,
     written_decimals,
 )
-from gaitgram.language.parser import document_parser, range_parser
+from gaitgram.language.parser import range_parser, terminal
 
 __all__ = [
     "CODES",
@@ -595,17 +595,15 @@ def _too_large(text: str, size: int | None, shown: str | None = None) -> RangePr
 # ---- the range syntax of the grammar ----------------------------------------------------------
 
 
-@cache
 def range_token() -> re.Pattern[str]:
     """The scanner's ``RANGE`` token: the bracketed shape that makes text a range."""
-    return re.compile(document_parser().get_terminal("RANGE").pattern.to_regexp())
+    return terminal("RANGE")
 
 
 @cache
 def _open_range() -> re.Pattern[str]:
     """A range's kind and ``[`` with no ``]`` after it, up to the end of the text searched."""
-    kind = range_parser().get_terminal("RANGE_KIND").pattern.to_regexp()
-    return re.compile(rf"(?:{kind})\[[^\]]*$")
+    return re.compile(rf"(?:{terminal('RANGE_KIND').pattern})\[[^\]]*$")
 
 
 def no_open_range_before(text: str, start: int) -> bool:
