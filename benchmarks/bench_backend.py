@@ -185,7 +185,8 @@ def per_body(threads: int) -> None:
             before = evaluator.simulated_steps
             evaluator.evaluate(batch)
             steps = evaluator.simulated_steps - before
-            rate = len(batch.angles) / min(timed(lambda e=evaluator: e.evaluate(batch)) for _ in range(ROUNDS))
+            best = min(timed(lambda e=evaluator: e.evaluate(batch)) for _ in range(ROUNDS))
+            rate = len(batch.angles) / best
             horse = horse or rate
             print(
                 f"{name:<10} {evaluator.layout.hip_height:6.3f} {evaluator.dt * 1e3:6.2f} {steps:7d} "

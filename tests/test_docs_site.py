@@ -1,6 +1,6 @@
 """The documentation site (``mkdocs.yml``): it builds with ``--strict``, and its generated pages are
 generated from the code: the CLI reference from the commands, the diagnostics catalogue from
-``gaitgram.diagnostics.CODES``, the API pages from the plug-in modules."""
+``gaitgram.analysis.catalogue.CODES``, the API pages from the plug-in modules."""
 
 from __future__ import annotations
 
@@ -15,8 +15,8 @@ import pytest
 import typer
 
 from gaitgram import docgen
+from gaitgram.analysis.catalogue import CODES
 from gaitgram.cli import app
-from gaitgram.diagnostics import CODES
 
 ROOT = Path(__file__).resolve().parents[1]
 DIAGNOSTICS = ROOT / "docs" / "diagnostics.md"

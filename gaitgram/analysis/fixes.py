@@ -229,19 +229,16 @@ def combine(title: str, fixes: Iterable[Fix]) -> Fix | None:
     return Fix(title, tuple(edits), Applicability.SAFE if safe else Applicability.UNSAFE)
 
 
-#: Titles of :func:`fix_all` where the generic one would read badly.
-_FIX_ALL_TITLES = {"GG204": "Remove all {n} unreachable rules"}
-
-
 def fix_all(diagnostics: Iterable[Diagnostic], code: str) -> Fix | None:
     """One fix applying the chosen fix (safe, else preferred) of every diagnostic with ``code``:
     the editor's "fix all of these". None if fewer than two have one, or two of them overlap."""
-    fixes = [
-        fix
-        for found in diagnostics
-        if found.code.code == code and (fix := chosen_fix(found, unsafe=True)) is not None
-    ]
-    if len(fixes) < 2:
+    declared: Code | None = None
+    fixes = []
+    for found in diagnostics:
+        if found.code.code == code and (fix := chosen_fix(found, unsafe=True)) is not None:
+            declared = found.code
+            fixes.append(fix)
+    if declared is None or len(fixes) < 2:
         return None
-    title = _FIX_ALL_TITLES.get(code, "Fix all {n} {code} problems").format(n=len(fixes), code=code)
+    title = (declared.fix_all or "Fix all {n} {code} problems").format(n=len(fixes), code=code)
     return combine(title, fixes)

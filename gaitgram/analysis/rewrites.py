@@ -9,12 +9,12 @@ the editor's refactorings, made by the library so that any front end offers the 
 
 from __future__ import annotations
 
-import re
 from decimal import Decimal, InvalidOperation
 from itertools import pairwise
 
 from gaitgram.diagnostics import Applicability, Fix, TextEdit
 from gaitgram.language.model import Alternative, Rule, Terminal
+from gaitgram.language.parser import terminal
 from gaitgram.language.ranges import parse_range
 from gaitgram.language.source import SourceText, Span
 
@@ -22,7 +22,6 @@ __all__ = ["MAX_EXPANDED", "collapses", "expansions", "range_for", "rewrites"]
 
 #: A typed range is expanded only up to this many values.
 MAX_EXPANDED = 200
-_NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d+)?|\.\d+)")
 
 
 def rewrites(source: SourceText, rule: Rule) -> list[Fix]:
@@ -86,7 +85,8 @@ def expansions(rule: Rule) -> list[Fix]:
 def _number_text(alternative: Alternative) -> str | None:
     if len(alternative.symbols) == 1 and isinstance(alternative.symbols[0], Terminal):
         value = alternative.symbols[0].text
-        if _NUMBER.fullmatch(value):
+        # A plain decimal: a number of the grammar without an exponent.
+        if "e" not in value.lower() and terminal("RANGE_NUMBER").fullmatch(value):
             return value
     return None
 

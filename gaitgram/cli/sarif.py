@@ -17,8 +17,9 @@ from typing import Any
 from urllib.parse import quote
 
 import gaitgram
+from gaitgram.analysis.catalogue import CODES
 from gaitgram.cli.output import effective_severity
-from gaitgram.diagnostics import CODES, Code, Diagnostic, Fix, Severity
+from gaitgram.diagnostics import Code, Diagnostic, Fix, Severity
 from gaitgram.language.source import SourceError, SourceText, Span
 
 SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"

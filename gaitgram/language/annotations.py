@@ -13,13 +13,16 @@ from dataclasses import dataclass
 from difflib import get_close_matches
 from enum import StrEnum
 
-from gaitgram.diagnostics import Diagnostic, Fix, TextEdit, diagnostic
+from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
 from gaitgram.language.model import Annotation, Argument, ArgumentValue, Interval, Name, RuleRef
-from gaitgram.language.ranges import NUMBER_LIMITS, number_problem, read_number
+from gaitgram.language.numbers import NUMBER_LIMITS, number_problem, read_number
 from gaitgram.language.source import Span
 
 __all__ = [
     "ANNOTATIONS",
+    "BAD_ARGUMENTS",
+    "CODES",
+    "UNKNOWN_ANNOTATION",
     "AnnotationKind",
     "CheckedAnnotation",
     "Parameter",
@@ -29,7 +32,28 @@ __all__ = [
     "check_annotation",
     "parameter_of",
     "rule_references",
+    "unreadable_argument",
 ]
+
+UNKNOWN_ANNOTATION = Code(
+    "GG401",
+    "unknown-annotation",
+    Severity.WARNING,
+    "an annotation gaitgram does not know",
+    "gaitgram does not know this annotation and ignores it. Correct the name: @start, @backend, "
+    "@units, @define, @joint or @frequency.",
+    fix=Applicability.UNSAFE,
+    fix_help="The nearest known annotation.",
+)
+BAD_ARGUMENTS = Code(
+    "GG402",
+    "bad-annotation-arguments",
+    Severity.ERROR,
+    "an annotation with missing, extra or ill-typed arguments",
+    "An annotation has a missing, extra or ill-typed argument. The message says which; hover "
+    "over the annotation for its usage.",
+)
+CODES = (UNKNOWN_ANNOTATION, BAD_ARGUMENTS)
 
 
 class Target(StrEnum):
@@ -227,8 +251,7 @@ def check_annotation(annotation: Annotation, problems: list[Diagnostic]) -> Chec
         known = ", ".join(f"@{n}" for n in ANNOTATIONS)
         nearest = get_close_matches(annotation.name, list(ANNOTATIONS), n=1, cutoff=0.6)
         problems.append(
-            diagnostic(
-                "GG401",
+            UNKNOWN_ANNOTATION(
                 f"unknown annotation @{annotation.name}",
                 annotation.name_span,
                 hint=f"did you mean @{nearest[0]}?" if nearest else f"known annotations: {known}",
@@ -272,8 +295,7 @@ def check_annotation(annotation: Annotation, problems: list[Diagnostic]) -> Chec
     for parameter in positional:
         if parameter.required:
             problems.append(
-                diagnostic(
-                    "GG402",
+                BAD_ARGUMENTS(
                     f"@{kind.name} needs {parameter.help}",
                     annotation.span,
                     hint=usage,
@@ -357,4 +379,13 @@ def _convert(
 
 
 def _bad(argument: Argument, message: str, hint: str | None) -> Diagnostic:
-    return diagnostic("GG402", message, argument.span, hint=hint)
+    return BAD_ARGUMENTS(message, argument.span, hint=hint)
+
+
+def unreadable_argument(raw: str, span: Span) -> Diagnostic:
+    """An argument that is no value at all (the grammar's ``bad_argument``)."""
+    return BAD_ARGUMENTS(
+        f"cannot read annotation argument {raw!r}",
+        span,
+        hint="arguments are names, numbers, <rules>, 'strings', lo..hi intervals, or key=value",
+    )

@@ -15,7 +15,6 @@ grammar must keep under gaitgram:
 
 from __future__ import annotations
 
-import re
 import unicodedata
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -23,11 +22,12 @@ from typing import NamedTuple
 
 from lark import Token, Tree
 
-from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit, diagnostic
-from gaitgram.language.annotations import CheckedAnnotation, Target, check_annotation
-from gaitgram.language.edits import deletion_fix
-from gaitgram.language.escapes import EscapeError, unescape
+from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit
+from gaitgram.language.annotations import CheckedAnnotation, Target, check_annotation, unreadable_argument
+from gaitgram.language.escapes import unescape
 from gaitgram.language.lexer import Piece
+from gaitgram.language.look_alikes import HINT as LOOK_ALIKE_HINT
+from gaitgram.language.look_alikes import RANGE_LOOK_ALIKE, look_alike_ranges
 from gaitgram.language.meaning import read_defines, read_document, read_rule
 from gaitgram.language.model import (
     Alternative,
@@ -47,17 +47,30 @@ from gaitgram.language.model import (
     Symbol,
     Terminal,
 )
+from gaitgram.language.numbers import exact_int, read_number
 from gaitgram.language.parser import scanner, tree_end, tree_start
+from gaitgram.language.problems import (
+    comment_splits_alternative,
+    dangling_annotation,
+    empty_alternative,
+    empty_rule,
+    ge_range_bad_size,
+    ge_range_not_whole,
+    ge_range_unreadable,
+    invalid_escape,
+    stray_text,
+    undefined_define,
+    unencodable_text,
+    unterminated_string,
+)
 from gaitgram.language.ranges import (
-    LOOK_ALIKE_HINT,
+    MALFORMED_RANGE,
     MAX_RANGE_VALUES,
     RangeFix,
-    exact_int,
-    look_alike_ranges,
+    no_open_range_before,
     parse_range,
-    read_number,
 )
-from gaitgram.language.source import SourceText, Span, unencodable_text
+from gaitgram.language.source import SourceText, Span
 
 _BLANK = frozenset({"WS", "NEWLINE", "COMMENT"})
 _TEXTUAL = frozenset({"TEXT", "WS"})
@@ -172,16 +185,7 @@ class _Builder:
                     pending.append(c)
         for c in pending:
             if c.kind is not None:
-                self.problems.append(
-                    diagnostic(
-                        "GG403",
-                        f"@{c.annotation.name} annotates the rule after it, but no rule follows",
-                        c.annotation.span,
-                        hint="move it above the rule it is about, or delete it",
-                        fixes=[deletion_fix(self.source.text, c.annotation.span, "Delete it")],
-                        data={"annotation": c.annotation.name},
-                    )
-                )
+                self.problems.append(dangling_annotation(self.source.text, c.annotation))
         return Parts(tuple(rules), tuple(annotations), tuple(joints), tuple(self.problems), own_defines)
 
     def _pieces(self, token: Token) -> list[Piece]:
@@ -197,15 +201,7 @@ class _Builder:
             if piece[0] == "NEWLINE" or piece[0] == "COMMENT":
                 if run:
                     span = Span(run[0][1], run[-1][2])
-                    shown = text[span.start : span.end].strip()
-                    self.problems.append(
-                        diagnostic(
-                            "GG101",
-                            f"text outside any rule: {_shorten(shown)!r}",
-                            span,
-                            hint="rules are written <name> ::= alternatives; comments start with #",
-                        )
-                    )
+                    self.problems.append(stray_text(span, text[span.start : span.end].strip()))
                     run = []
             elif piece[0] != "WS":
                 run.append(piece)
@@ -237,14 +233,7 @@ class _Builder:
         span = Span(tree_start(tree), tree_end(tree))
         raw = self.source.text[span.start : span.end]
         if tree.data == "bad_argument":
-            self.problems.append(
-                diagnostic(
-                    "GG402",
-                    f"cannot read annotation argument {raw!r}",
-                    span,
-                    hint="arguments are names, numbers, <rules>, 'strings', lo..hi intervals, or key=value",
-                )
-            )
+            self.problems.append(unreadable_argument(raw, span))
             return None
         if tree.data == "keyword_argument":
             key = str(tree.children[0])
@@ -273,8 +262,7 @@ class _Builder:
         if tree.data == "rule_value":
             return RuleRef(token[1:-1])
         text, errors = unescape(token[1:-1])
-        for error in errors:
-            self._escape_problem(token.start_pos + 1, error)
+        self.problems.extend(invalid_escape(self.source, token.start_pos + 1, e) for e in errors)
         return text
 
     # ---- rules ---------------------------------------------------------------------------
@@ -289,18 +277,7 @@ class _Builder:
         end = _content_end(pieces, head.end_pos)
         rule_span = Span(head.start_pos, end)
         if not alternatives:
-            empty = Fix("Derive the empty string ''", (TextEdit(Span(end, end), " ''"),), UNSAFE, True)
-            self.problems.append(
-                diagnostic(
-                    "GG108",
-                    f"<{name}> has no alternatives",
-                    name_span,
-                    rule=name,
-                    hint=f"write <{name}> ::= a | b, or '' for the empty string",
-                    fixes=[empty],
-                    data={"name": name},
-                )
-            )
+            self.problems.append(empty_rule(name, name_span, end))
         return Rule(name, tuple(alternatives), rule_span, name_span, tuple(annotations))
 
     def _alternatives(self, rule: str, pieces: list[Piece], base: int) -> list[Alternative]:
@@ -333,32 +310,11 @@ class _Builder:
                 alternative = self._alternative(rule, trimmed, base)
                 if nonblank > 1:
                     where = alternative.local_span.shifted(base)
-                    at = Span(where.start, where.start)
-                    self.problems.append(
-                        diagnostic(
-                            "GG107",
-                            "this line starts a new alternative, because a comment ended the one before it",
-                            where,
-                            rule=rule,
-                            hint="PonyGE2 reads it that way too; put | before it to say so",
-                            fixes=[Fix("Write the | before it", (TextEdit(at, "| "),), SAFE, True)],
-                        )
-                    )
+                    self.problems.append(comment_splits_alternative(where, rule))
                 alternatives.append(alternative)
             if nonblank == 0 and pipes:
                 where = pipes[index] if index < len(pipes) else pipes[index - 1]
-                gone = _pipe_removal(text, where[1], where[2])
-                fixes = [] if gone is None else [Fix("Delete the extra |", (TextEdit(gone, ""),), SAFE, True)]
-                self.problems.append(
-                    diagnostic(
-                        "GG106",
-                        "empty alternative: PonyGE2 drops it, and so does gaitgram",
-                        Span(where[1], where[2]),
-                        rule=rule,
-                        hint="delete the extra |, or write '' for an empty string",
-                        fixes=fixes,
-                    )
-                )
+                self.problems.append(empty_alternative(text, Span(where[1], where[2]), rule))
         return alternatives
 
     def _alternative(self, rule: str, pieces: list[Piece], base: int) -> Alternative:
@@ -428,52 +384,15 @@ class _Builder:
         if kind == "GE_RANGE":
             return self._ge_range(rule, raw, start, whole=whole) or raw
         if kind == "BAD_STRING":
-            # The text already runs to the end of the line, so a quote there keeps its meaning.
-            close = Fix(f"Close the string with {raw[0]}", (TextEdit(Span(end, end), raw[0]),), SAFE, True)
-            self.problems.append(
-                diagnostic(
-                    "GG102",
-                    "unterminated string: no closing quote on this line",
-                    Span(start, end),
-                    rule=rule,
-                    hint=f"add the closing {raw[0]} (a string cannot span lines)",
-                    fixes=[close],
-                )
-            )
+            self.problems.append(unterminated_string(raw, Span(start, end), rule))
             return self._decode(raw[1:], start + 1)
         assert kind == "LT", kind
         return raw
 
     def _decode(self, raw: str, start: int) -> str:
         value, errors = unescape(raw)
-        for error in errors:
-            self._escape_problem(start, error)
+        self.problems.extend(invalid_escape(self.source, start, error) for error in errors)
         return value
-
-    def _escape_problem(self, base: int, error: EscapeError) -> None:
-        span = Span(base + error.start, base + error.end)
-        escape = self.source.slice(span)
-        # A bad escape is read as its own text, so doubling its backslash keeps the text.
-        literal = Fix(
-            f"Escape the backslash: \\{escape}",
-            (TextEdit(Span(span.start, span.start), "\\"),),
-            UNSAFE,
-            error.replacement is None,
-        )
-        fixes = [literal]
-        if error.replacement is not None:
-            meant = Fix(f"Write {error.replacement}", (TextEdit(span, error.replacement),), UNSAFE, True)
-            fixes.insert(0, meant)
-        self.problems.append(
-            diagnostic(
-                "GG103",
-                error.message,
-                span,
-                hint="write \\\\ for a backslash; escapes are \\n \\t \\xHH \\uHHHH \\N{NAME}",
-                fixes=fixes,
-                data={"escape": escape},
-            )
-        )
 
     def _range(self, rule: str, raw: str, start: int) -> RangeSpec | None:
         spec, problems = parse_range(raw)
@@ -483,11 +402,10 @@ class _Builder:
             if problem.offset == 0 and problem.length is None:
                 span = Span(start, start + len(raw))
             fix = problem.fix
-            if problem.code == "GG104" and not _no_open_bracket(self.source.text, start):  # it adds a ]
-                fix = None
+            if problem.code is MALFORMED_RANGE and not no_open_range_before(self.source.text, start):
+                fix = None  # it adds a ]
             self.problems.append(
-                diagnostic(
-                    problem.code,
+                problem.code(
                     problem.message,
                     span,
                     rule=rule,
@@ -501,10 +419,11 @@ class _Builder:
     def _look_alikes(self, rule: str, raw: str, start: int) -> None:
         for found in look_alike_ranges(raw):
             span = Span(start + found.offset, start + found.offset + found.length)
-            fix = found.fix if found.fix is None or _no_open_bracket(self.source.text, span.start) else None
+            fix = (
+                found.fix if found.fix is None or no_open_range_before(self.source.text, span.start) else None
+            )
             self.problems.append(
-                diagnostic(
-                    "GG309",
+                RANGE_LOOK_ALIKE(
                     found.message,
                     span,
                     rule=rule,
@@ -518,56 +437,21 @@ class _Builder:
         span = Span(start, start + len(raw))
         argument = raw.split(":", 1)[1]
         if not whole:
-            self.problems.append(
-                diagnostic(
-                    "GG105",
-                    f"{raw} must be a whole alternative",
-                    span,
-                    rule=rule,
-                    hint="put it alone between | separators, or use a typed range such as int[0..9]",
-                )
-            )
+            self.problems.append(ge_range_not_whole(raw, span, rule))
             return None
         if argument.isdecimal():  # the digits int() reads (any script's, not superscripts)
             size = _size(argument)
         elif argument.isidentifier():
             defined = self.defines
             if argument not in defined:
-                self.problems.append(
-                    diagnostic(
-                        "GG405",
-                        f"GE_RANGE:{argument} needs a value for {argument!r}",
-                        span,
-                        rule=rule,
-                        hint=f"add @define {argument}=N at the top, or pass --define {argument}=N",
-                    )
-                )
+                self.problems.append(undefined_define(argument, span, rule))
                 return None
             size = defined[argument]
         else:
-            self.problems.append(
-                diagnostic(
-                    "GG105",
-                    f"{raw}: the size must be a number or a name",
-                    span,
-                    rule=rule,
-                    hint="for example GE_RANGE:10",
-                )
-            )
+            self.problems.append(ge_range_unreadable(raw, span, rule))
             return None
         if size < 1 or size > MAX_RANGE_VALUES:
-            # A --define can be any int; str() of one with thousands of digits raises.
-            shown = (
-                f"has size {size}" if abs(size) < 10**15 else "is too large" if size > 0 else "is negative"
-            )
-            self.problems.append(
-                diagnostic(
-                    "GG105",
-                    f"{_shorten(raw)} {shown}; its size must be between 1 and {MAX_RANGE_VALUES:,}",
-                    span,
-                    rule=rule,
-                )
-            )
+            self.problems.append(ge_range_bad_size(raw, size, MAX_RANGE_VALUES, span, rule))
             return None
         return RangeSpec(RangeKind.INT, raw, tuple(str(i) for i in range(size)))
 
@@ -581,36 +465,6 @@ def _range_fixes(fix: RangeFix | None, start: int) -> list[Fix]:
         return []
     edits = tuple(TextEdit(Span(start + e.offset, start + e.offset + e.length), e.text) for e in fix.edits)
     return [Fix(fix.title, edits, SAFE if fix.safe else UNSAFE, preferred=True)]
-
-
-#: ``int[`` or ``float[`` with no ``]`` after it, up to the end of the text searched.
-_OPEN_RANGE = re.compile(r"(?:int|float)\[[^\]]*$")
-
-
-def _no_open_bracket(text: str, start: int) -> bool:
-    """Whether no ``int[``/``float[`` before ``start`` on its line is left open: else a ``]``
-    that a fix writes could close that one instead, and swallow everything in between."""
-    return _OPEN_RANGE.search(text, text.rfind("\n", 0, start) + 1, start) is None
-
-
-_AT = re.compile(r"[ \t]*@")
-
-
-def _pipe_removal(text: str, start: int, end: int) -> Span | None:
-    """A ``|`` with the spaces before it on its line, or else those after it; None if what
-    follows would then start its line with ``@`` and so become an annotation."""
-    line_start = text.rfind("\n", 0, start) + 1
-    if not text[line_start:start].strip() and _AT.match(text, end):
-        return None
-    before = start
-    while before > line_start and text[before - 1] in " \t":
-        before -= 1
-    if before < start:
-        return Span(before, end)
-    after = end
-    while after < len(text) and text[after] in " \t":
-        after += 1
-    return Span(start, after)
 
 
 def _trim(segment: list[Piece], text: str) -> list[Piece]:
@@ -653,7 +507,3 @@ def _size(digits: str) -> int:
     first = next((i for i, digit in enumerate(digits) if unicodedata.decimal(digit)), len(digits))
     significant = digits[first:] or "0"
     return int(significant) if len(significant) <= len(str(MAX_RANGE_VALUES)) else MAX_RANGE_VALUES + 1
-
-
-def _shorten(text: str, limit: int = 40) -> str:
-    return text if len(text) <= limit else text[: limit - 1] + "…"

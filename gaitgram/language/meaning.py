@@ -25,7 +25,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
-from gaitgram.diagnostics import Diagnostic, diagnostic
+from gaitgram.diagnostics import Applicability, Code, Diagnostic, Severity
 from gaitgram.language.annotations import ANNOTATIONS, CheckedAnnotation, Target, check_annotation
 from gaitgram.language.edits import deletion_fix
 from gaitgram.language.model import (
@@ -41,13 +41,35 @@ from gaitgram.language.model import (
 from gaitgram.language.source import Span
 
 __all__ = [
+    "CODES",
     "FILE_SETTINGS",
+    "NO_RULES",
+    "REPEATED_ANNOTATION",
     "DocumentSettings",
     "FileSetting",
     "read_defines",
     "read_document",
     "read_rule",
 ]
+
+REPEATED_ANNOTATION = Code(
+    "GG404",
+    "repeated-annotation",
+    Severity.ERROR,
+    "an annotation that may appear once, given twice",
+    "This annotation may be given once (in a file, or on a rule); the first one counts. Delete "
+    "the extra one.",
+    fix=Applicability.UNSAFE,
+    fix_help="Deletes the extra annotation.",
+)
+NO_RULES = Code(
+    "GG207",
+    "no-rules",
+    Severity.ERROR,
+    "the document defines no rule",
+    "A grammar needs at least one rule, <name> ::= alternatives.",
+)
+CODES = (NO_RULES, REPEATED_ANNOTATION)
 
 
 @dataclass(frozen=True, slots=True)
@@ -95,8 +117,7 @@ def read_rule(
     joints = [c for c in checked if c.annotation.name == "joint"]
     for extra in joints[1:]:
         problems.append(
-            diagnostic(
-                "GG404",
+            REPEATED_ANNOTATION(
                 f"<{rule.name}> has more than one @joint",
                 extra.annotation.span,
                 rule=rule.name,
@@ -141,8 +162,7 @@ def read_document(
         name = annotation.name
         if name in declared:
             problems.append(
-                diagnostic(
-                    "GG404",
+                REPEATED_ANNOTATION(
                     f"@{name} is given more than once; the first one counts",
                     annotation.span,
                     hint="delete the extra one",
@@ -159,8 +179,7 @@ def read_document(
     frequency = _frequency(text, rules, joints, problems)
     if not rules and not has_problems and not problems:
         problems.append(
-            diagnostic(
-                "GG207",
+            NO_RULES(
                 "no rules: a grammar needs at least one <name> ::= ... rule",
                 Span(0, 0),
                 hint="for example: <prog> ::= x | y",
@@ -197,8 +216,7 @@ def _frequency(
                 )
                 continue
             problems.append(
-                diagnostic(
-                    "GG404",
+                REPEATED_ANNOTATION(
                     message,
                     annotation.span,
                     rule=rule.name,

@@ -1,7 +1,9 @@
-"""The lark parsers generated from ``gaitgram.lark``."""
+"""The lark parsers generated from ``gaitgram.lark``, and its terminals for whoever else needs the
+language's syntax (the range look-alike finder, the rewrites), so it is written only there."""
 
 from __future__ import annotations
 
+import re
 from functools import cache
 from importlib.resources import files
 
@@ -36,6 +38,17 @@ def scanner() -> Scanner:
 @cache
 def range_parser() -> Lark:
     return Lark(grammar_text(), start="range_spec", parser="lalr", lexer="contextual")
+
+
+@cache
+def terminal(name: str) -> re.Pattern[str]:
+    """Terminal ``name`` of ``gaitgram.lark`` (``RANGE``, ``RANGE_NUMBER``, ...), compiled as the
+    parsers match it."""
+    for parser in (document_parser, range_parser):
+        found = {t.name: t for t in parser().terminals}.get(name)
+        if found is not None:
+            return re.compile(found.pattern.to_regexp())
+    raise KeyError(f"gaitgram.lark has no terminal {name}")
 
 
 def parse_tree(text: str) -> Tree:

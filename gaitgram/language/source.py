@@ -18,7 +18,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import BinaryIO
 
-from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit, diagnostic
 from gaitgram.spans import Span
 
 __all__ = [
@@ -34,7 +33,6 @@ __all__ = [
     "read_bytes",
     "read_limited",
     "read_source",
-    "unencodable_text",
 ]
 
 
@@ -115,45 +113,6 @@ class SourceText:
 
     def slice(self, span: Span) -> str:
         return self.text[span.start : span.end]
-
-
-#: UTF-16 surrogates: code points that are not characters and that UTF-8 cannot encode. Decoding
-#: a file never yields one; a str from the library API or an editor can hold them.
-_SURROGATES = re.compile("[\ud800-\udfff]+")
-
-
-def unencodable_text(source: SourceText) -> list[Diagnostic]:
-    """GG109 for each run of text that cannot be encoded as UTF-8, which every command that
-    writes the grammar, its phenotypes or its tables out would otherwise fail on later."""
-    text = source.text
-    if text.isascii():
-        return []
-    problems = []
-    for match in _SURROGATES.finditer(text):
-        run = match.group()
-        points = ", ".join(f"U+{ord(c):04X}" for c in run[:4]) + (", ..." if len(run) > 4 else "")
-        what = "a lone UTF-16 surrogate, not a character" if len(run) == 1 else "UTF-16 surrogates"
-        span = Span(match.start(), match.end())
-        fixes = []
-        try:  # pairs of a high and a low surrogate: the characters UTF-16 meant
-            meant = run.encode("utf-16-le", "surrogatepass").decode("utf-16-le")
-        except UnicodeDecodeError:
-            meant = None
-        if meant is not None:
-            shown = ", ".join(f"U+{ord(c):04X}" for c in meant[:4]) + (", ..." if len(meant) > 4 else "")
-            title = f"Join the surrogate pairs into {shown}"
-            fixes.append(Fix(title, (TextEdit(span, meant),), Applicability.UNSAFE, preferred=True))
-        problems.append(
-            diagnostic(
-                "GG109",
-                f"text that cannot be encoded as UTF-8: {points} ({what})",
-                span,
-                hint="the text was decoded wrongly somewhere; write a character outside the Basic "
-                "Multilingual Plane as itself, or as an escape such as \\U0001F600",
-                fixes=fixes,
-            )
-        )
-    return problems
 
 
 class SourceError(Exception):

@@ -31,9 +31,12 @@ from gaitgram.evolution.checkpoint import load_checkpoint
 from gaitgram.evolution.retarget import RetargetError
 from gaitgram.evolution.retarget import retarget as retarget_run
 from gaitgram.evolution.rundir import RunDirectory
+from gaitgram.evolution.session import run_session
+from gaitgram.pipeline import Pipeline
 from gaitgram.seed import load_seed
 
 runner = CliRunner()
+HYBRID = str(GRAMMARS / "hybrid.gg")
 OTHER_BODIES = [name for name in BODIES if name != REFERENCE_BODY]
 
 
@@ -68,9 +71,9 @@ def test_a_body_keeps_the_horses_joints_and_scales_by_the_documented_laws(name: 
 def test_an_unknown_body_is_refused_with_the_names_there_are() -> None:
     with pytest.raises(UnknownBody, match="did you mean 'shetland'"):
         body_named("shetlnd")
-    with pytest.raises(SettingsError, match="body.*did you mean 'draft'"):
+    with pytest.raises(SettingsError, match=r"body.*did you mean 'draft'"):
         HorseSettings.from_mapping({"body": "drfat"})
-    result = runner.invoke(app, ["evaluate", str(GRAMMARS / "hybrid.gg"), "--genome", "1,2,3", "--set", "body=pnoy"])
+    result = runner.invoke(app, ["evaluate", HYBRID, "--genome", "1,2,3", "--set", "body=pnoy"])
     assert result.exit_code == 2
     assert "did you mean 'pony'" in result.output
     assert "Traceback" not in result.output
@@ -153,9 +156,7 @@ def test_froude_and_unscaled_frequencies() -> None:
 def horse_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("retarget") / "horse"
     made = runner.invoke(
-        app,
-        ["evolve", str(GRAMMARS / "hybrid.gg"), "--generations", "2", "--population", "8"]
-        + ["--seed", "3", "-o", str(out), "-q"],
+        app, ["evolve", HYBRID, "--generations", "2", "--population", "8", "--seed", "3", "-o", str(out)]
     )
     assert made.exit_code == 0, made.output
     return out
@@ -187,10 +188,12 @@ def test_retarget_command(horse_run: Path) -> None:
     assert playings["froude"]["frequency"] == pytest.approx(evolved * ratio, rel=1e-9)
     table = runner.invoke(app, ["retarget", "--run", str(horse_run), "--to", "draft", "--scaling", "froude"])
     assert table.exit_code == 0, table.output
-    assert "froude" in table.output and "unscaled" not in table.output
+    assert "froude" in table.output
+    assert "unscaled" not in table.output
     wrong = runner.invoke(app, ["retarget", "--run", str(horse_run), "--to", "zebra"])
     assert wrong.exit_code == 2
-    assert "no body 'zebra'" in wrong.output and "Traceback" not in wrong.output
+    assert "no body 'zebra'" in wrong.output
+    assert "Traceback" not in wrong.output
 
 
 # --- seeded transfer ---------------------------------------------------------------------------
@@ -202,8 +205,10 @@ def test_a_run_started_from_another_begins_with_its_final_population(horse_run: 
     out = tmp_path / "pony"
     made = runner.invoke(
         app,
-        ["evolve", str(GRAMMARS / "hybrid.gg"), "--config", str(config), "--generations", "1"]
-        + ["--population", "8", "--seed", "4", "--start-from", str(horse_run), "-o", str(out), "-q"],
+        [
+            *("evolve", HYBRID, "--config", str(config), "--generations", "1", "--population", "8"),
+            *("--seed", "4", "--start-from", str(horse_run), "-o", str(out), "-q"),
+        ],
     )
     assert made.exit_code == 0, made.output
     source = RunDirectory.open(horse_run)
@@ -218,35 +223,55 @@ def test_a_run_started_from_another_begins_with_its_final_population(horse_run: 
     first = load_checkpoint(
         started.checkpoints[0], started.pipeline, fingerprint=started.fingerprints, run=0, with_memory=False
     )
-    assert first.generation == 1 and history
+    assert first.generation == 1
+    assert history
     source_genomes = {tuple(i.genome) for i in final.population}
     assert {tuple(i.genome) for i in first.population} & source_genomes  # elites carried over
 
 
-def test_a_transfer_is_refused_from_another_grammar_or_an_unfinished_run(horse_run: Path, tmp_path: Path) -> None:
-    other = runner.invoke(
+def _start_from(source: Path, grammar: str, out: Path, *flags: str) -> str:
+    """The output of a one-generation run of 8 gaits started from ``source``; exit 2 expected."""
+    result = runner.invoke(
         app,
-        ["evolve", str(GRAMMARS / "sinusoidal.gg"), "--generations", "1", "--population", "8"]
-        + ["--start-from", str(horse_run), "-o", str(tmp_path / "x"), "-q"],
+        [
+            *("evolve", grammar, "--generations", "1", "--population", "8", *flags),
+            *("--start-from", str(source), "-o", str(out), "-q"),
+        ],
     )
-    assert other.exit_code == 2
-    assert "another grammar" in other.output
-    assert not (tmp_path / "x").exists()
-    big = runner.invoke(
-        app,
-        ["evolve", str(GRAMMARS / "hybrid.gg"), "--generations", "1", "--population", "20"]
-        + ["--start-from", str(horse_run), "-o", str(tmp_path / "y"), "-q"],
-    )
-    assert big.exit_code == 2
-    assert "fewer than this run's population" in big.output
-    cma = runner.invoke(
-        app,
-        ["evolve", str(GRAMMARS / "hybrid.gg"), "--strategy", "cma-es", "--generations", "1"]
-        + ["--population", "8", "--start-from", str(horse_run), "-o", str(tmp_path / "z"), "-q"],
-    )
-    assert cma.exit_code == 2
-    assert "start_from" in cma.output
-    assert "Traceback" not in other.output + big.output + cma.output
+    assert result.exit_code == 2, result.output
+    assert "Traceback" not in result.output
+    assert not out.exists()
+    return result.output
+
+
+def test_a_transfer_is_refused_from_another_grammar_or_too_small_a_population(
+    horse_run: Path, tmp_path: Path
+) -> None:
+    assert "another grammar" in _start_from(horse_run, str(GRAMMARS / "sinusoidal.gg"), tmp_path / "x")
+    bigger = _start_from(horse_run, HYBRID, tmp_path / "y", "--population", "20")
+    assert "fewer than this run's population" in bigger
+    assert "start_from" in _start_from(horse_run, HYBRID, tmp_path / "z", "--strategy", "cma-es")
+
+
+def test_a_transfer_is_refused_from_an_unfinished_run(horse_run: Path, tmp_path: Path) -> None:
+    finished = RunDirectory.open(horse_run).pipeline
+    pipeline = Pipeline.build(finished.checked, replace(finished.config, generations=4))
+    unfinished = tmp_path / "unfinished"
+    directory = RunDirectory.create(unfinished, pipeline, defines={}, origin=HYBRID)
+    generations: list[int] = []
+    evaluator = pipeline.load_evaluator()
+    try:
+        run_session(
+            directory,
+            evaluator,
+            resume=False,
+            on_generation=lambda generation, _: generations.append(generation),
+            should_stop=lambda: len(generations) >= 2,
+        )
+    finally:
+        evaluator.close()
+    said = _start_from(unfinished, HYBRID, tmp_path / "w")
+    assert "has reached generation 1 of 4; start from it when it has finished" in said
 
 
 def test_every_body_builds_from_the_one_xml() -> None:

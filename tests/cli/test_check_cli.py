@@ -212,7 +212,7 @@ def test_console_script_runs_as_a_module(broken: Path) -> None:
 
 
 def test_every_diagnostic_code_is_documented() -> None:
-    from gaitgram.diagnostics import CODES
+    from gaitgram.analysis.catalogue import CODES
 
     documented = (GRAMMARS.parent / "docs" / "diagnostics.md").read_text()
     for code in CODES.values():

@@ -17,8 +17,8 @@ import pytest
 from typer.testing import CliRunner
 
 from conftest import ROOT
+from gaitgram.analysis.catalogue import CODES
 from gaitgram.cli import app
-from gaitgram.diagnostics import CODES
 
 runner = CliRunner()
 

@@ -27,8 +27,7 @@ SEVERITY = {
     Severity.INFO: types.DiagnosticSeverity.Information,
 }
 
-#: Rendered faded by editors: code that does nothing.
-_UNNECESSARY = frozenset({"GG204"})
+#: Rendered faded by editors: code that does nothing (``Code.unnecessary``).
 _UNNECESSARY_TAGS = [types.DiagnosticTag.Unnecessary.value]
 _SEVERITY_VALUE = {level: severity.value for level, severity in SEVERITY.items()}
 
@@ -50,7 +49,6 @@ def wire_diagnostic(found: Diagnostic, positions: PositionIndex) -> WireDiagnost
 
 
 def _wire(found: Diagnostic, start: tuple[int, int], end: tuple[int, int]) -> WireDiagnostic:
-    code = found.code.code
     wire: WireDiagnostic = {
         "range": {
             "start": {"line": start[0], "character": start[1]},
@@ -58,10 +56,10 @@ def _wire(found: Diagnostic, start: tuple[int, int], end: tuple[int, int]) -> Wi
         },
         "message": found.message,
         "severity": _SEVERITY_VALUE[found.level],
-        "code": code,
+        "code": found.code.code,
         "source": SOURCE,
     }
-    if code in _UNNECESSARY:
+    if found.code.unnecessary:
         wire["tags"] = _UNNECESSARY_TAGS
     return wire
 

@@ -1,26 +1,113 @@
-"""The linter: problems with a grammar's meaning, from its model and facts.
+"""Lint checks of a grammar's rules (GG2xx): undefined, duplicate, unproductive, unreachable and
+renaming rules.
 
-Each check is a small function from (grammar, facts) to diagnostics; ``lint``
-runs them all. Syntax problems were already found by the parser and live in
-``grammar.diagnostics``. Diagnostics carry their fixes (``Diagnostic.fixes``), made
-here where the names and spans are at hand.
+Each code is declared here with what it means, what to do about it and what its fixes do, beside
+the check that finds it and the fixes it offers. A check is a function from (grammar, facts) to
+diagnostics; :func:`gaitgram.analysis.lint.lint` runs them all. Fixes are made when they are
+first asked for (``Diagnostic.fixes``): working out what deleting an unreachable rule takes with
+it costs more than finding it.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from difflib import get_close_matches
+from functools import partial
 
 from gaitgram.analysis.cfg import RuleKind
-from gaitgram.analysis.facts import INFINITE, GrammarFacts, min_depths, occurrence_bounds
-from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backend_names, get_backend
-from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit, diagnostic
+from gaitgram.analysis.facts import GrammarFacts, min_depths
+from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
 from gaitgram.language.annotations import rule_references
 from gaitgram.language.edits import line_end, removal, union
 from gaitgram.language.model import Grammar, NonTerminal, Rule
+from gaitgram.language.problems import UNTERMINATED_STRING
 from gaitgram.language.source import Span
 
-Check = Callable[[Grammar, GrammarFacts], Iterator[Diagnostic]]
+__all__ = [
+    "CODES",
+    "DUPLICATE_RULE",
+    "START_DERIVES_NOTHING",
+    "UNDEFINED_RULE",
+    "UNIT_RULE_CHAIN",
+    "UNPRODUCTIVE_RULE",
+    "UNREACHABLE_RULE",
+    "duplicate_rules",
+    "undefined_rules",
+    "unit_rule_chains",
+    "unproductive_rules",
+    "unreachable_rules",
+]
+
+E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFO  # noqa: E741 (short names keep the table readable)
+UNSAFE = Applicability.UNSAFE
+
+UNDEFINED_RULE = Code(
+    "GG201",
+    "undefined-rule",
+    E,
+    "a non-terminal that no rule defines",
+    "A non-terminal names a rule that does not exist: define the rule, or correct the name.",
+    fix=UNSAFE,
+    fix_help="Replaces the name with the nearest defined one (preferred; up to three are offered), or "
+    "defines the rule, `<name> ::= ''`, after the rule that uses it.",
+)
+DUPLICATE_RULE = Code(
+    "GG202",
+    "duplicate-rule",
+    E,
+    "a rule defined more than once",
+    "Only the first definition of a rule counts. Merge the alternatives into one rule with |, or "
+    "rename one of the rules.",
+    fix=UNSAFE,
+    fix_help="Merges the alternatives into the first definition (preferred, when the duplicate has no "
+    "annotations), or deletes the ignored definition.",
+)
+UNPRODUCTIVE_RULE = Code(
+    "GG203",
+    "unproductive-rule",
+    E,
+    "a rule that can never derive a terminal string",
+    "Every alternative of the rule needs a rule that cannot finish, so no derivation through it "
+    "ends. Add an alternative that ends, such as a terminal.",
+)
+UNREACHABLE_RULE = Code(
+    "GG204",
+    "unreachable-rule",
+    W,
+    "a rule the start rule never reaches",
+    "No derivation from the start rule uses this rule. Delete it, or use it from a rule the start "
+    "rule reaches.",
+    fix=UNSAFE,
+    fix_help="Deletes the rule with its annotations, together with the unreachable rules that use it, so no "
+    "reference is left undefined (not offered when a reachable rule's ignored duplicate uses it). The"
+    " editor also offers one fix removing every unreachable rule.",
+    fix_all="Remove all {n} unreachable rules",
+    unnecessary=True,
+)
+START_DERIVES_NOTHING = Code(
+    "GG205",
+    "start-derives-nothing",
+    E,
+    "the start rule can never derive a terminal string",
+    "No derivation from the start rule ever ends, so no genome maps to a phenotype. Give some "
+    "rule on the way an alternative that ends.",
+)
+UNIT_RULE_CHAIN = Code(
+    "GG206",
+    "unit-rule-chain",
+    I,
+    "a rule whose only alternative is another rule",
+    "A rule whose only alternative is another rule adds a derivation step (and, in eager mode, "
+    "reads a codon). Use the other rule directly.",
+)
+CODES = (
+    UNDEFINED_RULE,
+    DUPLICATE_RULE,
+    UNPRODUCTIVE_RULE,
+    UNREACHABLE_RULE,
+    START_DERIVES_NOTHING,
+    UNIT_RULE_CHAIN,
+)
 
 
 def undefined_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
@@ -37,25 +124,23 @@ def undefined_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnosti
             if ref.name not in defined:
                 close = near(ref.name)
                 span = rule.span_of(ref)
-                yield diagnostic(
-                    "GG201",
+                yield UNDEFINED_RULE(
                     f"<{ref.name}> is not defined",
                     span,
                     rule=rule.name,
                     hint=f"did you mean <{close[0]}>?" if close else f"define it: <{ref.name}> ::= ...",
-                    fixes=_undefined_fixes(grammar, ref.name, span, rule, close),
+                    fixes=partial(_undefined_fixes, grammar, ref.name, span, rule, close),
                     data={"name": ref.name},
                 )
     for annotation in grammar.annotations:
         for name, span in rule_references(annotation):
             if name not in defined:
                 close = near(name)
-                yield diagnostic(
-                    "GG201",
+                yield UNDEFINED_RULE(
                     f"@{annotation.name} names <{name}>, which is not defined",
                     span,
                     hint=f"did you mean <{close[0]}>?" if close else "name a rule this file defines",
-                    fixes=_undefined_fixes(grammar, name, span, None, close),
+                    fixes=partial(_undefined_fixes, grammar, name, span, None, close),
                     data={"name": name},
                 )
 
@@ -89,13 +174,12 @@ def duplicate_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnosti
         original = first[rule.name]
         if rule is not original:
             line = grammar.source.location(original.name_span.start).line
-            yield diagnostic(
-                "GG202",
+            yield DUPLICATE_RULE(
                 f"<{rule.name}> is already defined on line {line}; this definition is ignored",
                 rule.name_span,
                 rule=rule.name,
                 hint="merge the alternatives into one rule with |, or rename one of them",
-                fixes=_duplicate_fixes(grammar, original, rule),
+                fixes=partial(_duplicate_fixes, grammar, original, rule),
                 data={"name": rule.name},
             )
 
@@ -106,7 +190,9 @@ def _duplicate_fixes(grammar: Grammar, original: Rule, duplicate: Rule) -> list[
     gone = _rule_removal(text, duplicate)
     fixes = []
     # Text added after an unterminated string would be part of it.
-    open_string = any(d.code.code == "GG102" and d.span.end == original.span.end for d in grammar.diagnostics)
+    open_string = any(
+        d.code is UNTERMINATED_STRING and d.span.end == original.span.end for d in grammar.diagnostics
+    )
     if duplicate.alternatives and not duplicate.annotations and not open_string:
         alternatives = text[duplicate.span_of(duplicate.alternatives[0]).start : duplicate.span.end]
         joined = f" | {alternatives}" if original.alternatives else f" {alternatives}"
@@ -142,8 +228,7 @@ def unproductive_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagno
         if depth[i] is not None or not rule.alternatives:
             continue
         if i == cfg.start:
-            yield diagnostic(
-                "GG205",
+            yield START_DERIVES_NOTHING(
                 f"the start rule <{rule.name}> can never derive a terminal string, so no genome maps",
                 rule.name_span,
                 rule=rule.name,
@@ -154,8 +239,7 @@ def unproductive_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagno
             {cfg.names[c] for c in cfg.children(i) if depth[c] is None and cfg.kinds[c] is RuleKind.DEFINED}
         )
         why = ", ".join(f"<{s}>" for s in stuck[:4]) + (" ..." if len(stuck) > 4 else "")
-        yield diagnostic(
-            "GG203",
+        yield UNPRODUCTIVE_RULE(
             f"<{rule.name}> can never derive a terminal string: every alternative needs {why}, "
             "which cannot finish",
             rule.name_span,
@@ -187,13 +271,14 @@ def unreachable_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnos
     removals: dict[int, Span] = {}  # by id(rule): a chain of n rules is in n fixes
     for rule in grammar.rules_by_name.values():
         if rule.name in unreachable:
-            yield diagnostic(
-                "GG204",
+            yield UNREACHABLE_RULE(
                 f"<{rule.name}> is unreachable: the start rule <{start}> never uses it",
                 rule.name_span,
                 rule=rule.name,
                 hint=f"delete it, or use it from a rule that <{start}> reaches",
-                fixes=_unreachable_fixes(grammar, rule.name, unreachable, users, definitions, removals),
+                fixes=partial(
+                    _unreachable_fixes, grammar, rule.name, unreachable, users, definitions, removals
+                ),
                 data={"name": rule.name},
             )
 
@@ -251,163 +336,12 @@ def unit_rule_chains(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnost
             and symbols[0].name != rule.name  # <a> ::= <a> is unproductive, reported as such
         ):
             target = symbols[0].name
-            yield diagnostic(
-                "GG206",
+            yield UNIT_RULE_CHAIN(
                 f"<{rule.name}> only renames <{target}>",
                 rule.name_span,
                 rule=rule.name,
                 hint=f"use <{target}> directly; in eager mode the extra step reads a codon",
             )
-
-
-def joints(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
-    seen: dict[str, str] = {}
-    for joint in grammar.joints:
-        if joint.joint in seen:
-            yield diagnostic(
-                "GG504",
-                f"joint {joint.joint} already has a curve, <{seen[joint.joint]}>",
-                joint.span,
-                rule=joint.rule,
-                hint="each joint is driven by exactly one rule",
-            )
-        seen.setdefault(joint.joint, joint.rule)
-
-    backend_annotation = grammar.declared.get("backend")
-    if grammar.backend is None or backend_annotation is None:
-        if grammar.joints:
-            yield diagnostic(
-                "GG507",
-                "no @backend: joint names and limits are not checked",
-                grammar.joints[0].span,
-                hint=f"declare the backend, e.g. @backend {next(iter(backend_names()), 'NAME')}",
-            )
-        return
-    where = (
-        backend_annotation.positional()[0].span
-        if backend_annotation.positional()
-        else backend_annotation.span
-    )
-    try:
-        backend = get_backend(grammar.backend)
-    except BackendLoadError as error:
-        yield diagnostic(
-            "GG501",
-            f"backend {grammar.backend!r} is installed but fails to load: {error}",
-            where,
-            hint="reinstall it, or report the problem to its authors",
-        )
-        return
-    except BackendNotFound:
-        installed = list(backend_names())
-        close = get_close_matches(grammar.backend, installed, n=1, cutoff=0.6)
-        yield diagnostic(
-            "GG501",
-            f"no backend named {grammar.backend!r} is installed",
-            where,
-            hint=f"did you mean {close[0]}?"
-            if close
-            else f"installed backends: {', '.join(installed) or 'none'}",
-            fixes=[
-                Fix(f"Replace with {n}", (TextEdit(where, n),), Applicability.UNSAFE, preferred=True)
-                for n in close
-                if backend_annotation.positional()
-            ],
-            data={"backend": grammar.backend},
-        )
-        return
-    catalogue = backend.catalogue
-    if catalogue is None:  # the backend takes any joint names
-        return
-    scale = 1.0 if grammar.units == "deg" else 3.141592653589793 / 180.0
-    annotations = {(a.span.start, a.span.end): a for a in grammar.annotations}
-    for joint in grammar.joints:
-        known = catalogue.get(joint.joint)
-        if known is None:
-            suggestion = get_close_matches(joint.joint, catalogue.names, n=1, cutoff=0.5)
-            annotation = annotations.get((joint.span.start, joint.span.end))
-            argument = annotation.positional()[0] if annotation and annotation.positional() else None
-            yield diagnostic(
-                "GG502",
-                f"backend {backend.name} has no joint {joint.joint!r}",
-                joint.span,
-                rule=joint.rule,
-                hint=f"did you mean {suggestion[0]}?"
-                if suggestion
-                else f"its joints: {', '.join(catalogue.names)}",
-                fixes=[
-                    Fix(f"Replace with {n}", (TextEdit(argument.span, n),), Applicability.UNSAFE, True)
-                    for n in suggestion
-                    if argument is not None
-                ],
-                data={"joint": joint.joint, "backend": backend.name},
-            )
-            continue
-        if joint.limits is not None:
-            low, high = known.limits[0] * scale, known.limits[1] * scale
-            if joint.limits[0] < low - 1e-9 or joint.limits[1] > high + 1e-9:
-                yield diagnostic(
-                    "GG506",
-                    f"limits {joint.limits[0]:g}..{joint.limits[1]:g} of {joint.joint} go beyond the "
-                    f"backend's {low:g}..{high:g} ({grammar.units})",
-                    joint.span,
-                    rule=joint.rule,
-                    hint="the backend clips the curve to its own limits",
-                )
-    driven = {j.joint for j in grammar.joints}
-    missing = [name for name in catalogue.names if name not in driven]
-    if missing:
-        which = f"joint {missing[0]} has" if len(missing) == 1 else f"{len(missing)} joints have"
-        yield diagnostic(
-            "GG503",
-            f"{which} no curve, and will hold the neutral angle: {', '.join(missing)}",
-            where,
-            hint=f"add a rule annotated @joint {missing[0]}" + (" (and so on)" if len(missing) > 1 else ""),
-        )
-
-
-def joints_derived_once(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
-    cfg = facts.cfg
-    if not facts.start_productive:
-        return
-    for joint in grammar.joints:
-        target = cfg.index.get(joint.rule)
-        if target is None:
-            continue
-        fewest, most = occurrence_bounds(cfg, target, facts.productive)
-        if fewest == 1 and most == 1:
-            continue
-        if most == 0:
-            problem = "no derivation uses it"
-        elif fewest == 0:
-            problem = "a derivation can skip it"
-        else:
-            problem = "a derivation can use it " + (
-                "any number of times" if most == INFINITE else f"{most:g} times"
-            )
-        yield diagnostic(
-            "GG505",
-            f"<{joint.rule}> drives joint {joint.joint}, but {problem}",
-            joint.span,
-            rule=joint.rule,
-            hint="a joint's curve should be derived exactly once per individual",
-        )
-
-
-CHECKS: tuple[Check, ...] = (
-    undefined_rules,
-    duplicate_rules,
-    unproductive_rules,
-    unreachable_rules,
-    unit_rule_chains,
-    joints,
-    joints_derived_once,
-)
-
-
-def lint(grammar: Grammar, facts: GrammarFacts) -> list[Diagnostic]:
-    found = [d for check in CHECKS for d in check(grammar, facts)]
-    return sorted(found, key=lambda d: (d.span.start, d.code.code))
 
 
 def _nearest(name: str, candidates: dict[str, object]) -> list[str]:
