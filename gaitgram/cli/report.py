@@ -29,8 +29,9 @@ def command(
         int,
         typer.Option(
             min=0,
-            help="Animate this many gaits per nsga2 or map-elites arm: trade-offs spread along the "
-            "front, repertoire cells spread along the first descriptor (mujoco-horse; slow).",
+            help="Animate each arm's best walk, and this many gaits per nsga2 or map-elites arm: "
+            "trade-offs spread along the front, repertoire cells spread along the first descriptor "
+            "(mujoco-horse; slow).",
         ),
     ] = 0,
     cell: Annotated[
@@ -49,7 +50,8 @@ def command(
     convergence figures with confidence bands. Writes summary.md (also printed), summary.csv,
     summary.json, tables.tex, convergence.png and convergence.svg; front-ARM.png (Pareto fronts,
     objectives pairwise) for nsga2 arms and archive-ARM.png (the repertoire as heat maps) for
-    map-elites arms; with --gaits or --cell, GIFs of chosen gaits (docs/strategies.md).
+    map-elites arms; with --gaits or --cell, GIFs of chosen gaits (docs/strategies.md); and
+    report.html, all of it in one page that opens from a file (docs/study.md).
     """
     require_extra("matplotlib", "reports")
     require_extra("scipy", "reports")

@@ -13,16 +13,17 @@ The report is made in stages, each its own module:
 - :mod:`~gaitgram.study.model` makes the report as data: summaries, rank tests and
   sections of tables and figures;
 - :mod:`~gaitgram.study.formats` (Markdown, CSV, LaTeX, JSON),
-  :mod:`~gaitgram.study.figures` and :mod:`~gaitgram.study.gallery` (GIFs)
-  draw it;
+  :mod:`~gaitgram.study.html`, :mod:`~gaitgram.study.figures` and
+  :mod:`~gaitgram.study.gallery` (GIFs) draw it;
 - this module writes it, whole or not at all.
 
 Written files: ``summary.md``, ``summary.csv``, ``tables.tex``,
 ``summary.json``, ``convergence.png`` and ``convergence.svg``; for an arm whose
 runs keep a Pareto front (``nsga2``) ``front-ARM.png``, the fronts' objectives
 pairwise, and for one whose runs keep a repertoire (``map-elites``)
-``archive-ARM.png``, its cells as heat maps; on request, GIFs of trade-off
-gaits and of repertoire cells.
+``archive-ARM.png``, its cells as heat maps; on request, GIFs of each arm's
+best walk, of trade-off gaits and of repertoire cells; last, ``report.html``,
+all of it in one page.
 """
 
 from __future__ import annotations
@@ -36,8 +37,11 @@ from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts
 from gaitgram.study.figures import draw, rendered
 from gaitgram.study.formats import text_files
 from gaitgram.study.gallery import gaits_section, render_gaits, spread_cells
+from gaitgram.study.html import html
 from gaitgram.study.model import Gait, StudyReport, build_report, fronts_section
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable, load_arms
+
+HTML = "report.html"
 
 
 def study_report(
@@ -49,7 +53,7 @@ def study_report(
 ) -> StudyReport:
     """The report of ``arms``, with the sections their strategies call for; ``chosen`` cells (or
     ``gaits`` cells spread over each repertoire) are animated and outlined on its heat map, and
-    ``gaits`` trade-offs of each front are animated."""
+    with ``gaits`` each arm's best walk and ``gaits`` trade-offs of each front are animated."""
     fronts, repertoires = kept_sets(arms)
     cells = {
         name: list(chosen) or spread_cells(repertoire, gaits)
@@ -74,7 +78,7 @@ def kept_sets(arms: Sequence[ArmRecord]) -> tuple[dict[str, list[Front]], dict[s
 def report_files(report: StudyReport, out: Path) -> list[Path]:
     """Every file :func:`write_report` writes, in order."""
     figures = [name for figure in report.figures for name in figure.files]
-    return [out / name for name in [*text_files(report), *figures]]
+    return [out / name for name in [*text_files(report), *figures, HTML]]
 
 
 def write_report(
@@ -83,10 +87,10 @@ def write_report(
     *,
     force: bool = False,
 ) -> list[Path]:
-    """The whole report, tables, figures and GIFs, or none of it: every file is checked first (an
-    existing one needs ``force``), and if anything fails (a GIF that cannot be rendered, a full
-    disk, Ctrl-C) the files and directories made so far are removed again. Each file is replaced
-    at once: a reader never sees half of one."""
+    """The whole report, tables, figures, GIFs and page, or none of it: every file is checked first
+    (an existing one needs ``force``), and if anything fails (a GIF that cannot be rendered, a
+    full disk, Ctrl-C) the files and directories made so far are removed again. Each file is
+    replaced at once: a reader never sees half of one."""
     planned = report_files(report, out)
     try:
         for path in planned:
@@ -99,7 +103,8 @@ def write_report(
         out.mkdir(parents=True, exist_ok=True)
         for name, text in text_files(report).items():
             write_atomically(out / name, text)
-        _draw_figures(report, out)
+        images = _draw_figures(report, out)
+        write_atomically(out / HTML, html(report, images))
         return planned
     except BaseException:
         for path in new:
@@ -112,7 +117,7 @@ def write_report(
 
 def _draw_figures(report: StudyReport, out: Path) -> dict[str, bytes]:
     """Each figure's files written (plots first, then the GIFs, one evaluator per run directory);
-    returns them by name."""
+    returns them by name, for the page."""
     images: dict[str, bytes] = {}
     animated: dict[Path, list[tuple[Gait, Path]]] = {}
     for figure in report.figures:
