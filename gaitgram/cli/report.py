@@ -34,6 +34,15 @@ def command(
             "(mujoco-horse; slow).",
         ),
     ] = 0,
+    assess: Annotated[
+        bool,
+        typer.Option(
+            "--assess",
+            help="First measure each run's best gait beside the real walks and under disturbances "
+            "where not yet measured (mujoco-horse; simulation, kept in run-NNN/assessment.json of the "
+            "run directories; reports read it from there).",
+        ),
+    ] = False,
     cell: Annotated[
         list[str] | None,
         typer.Option(
@@ -50,8 +59,9 @@ def command(
     convergence figures with confidence bands. Writes summary.md (also printed), summary.csv,
     summary.json, tables.tex, convergence.png and convergence.svg; front-ARM.png (Pareto fronts,
     objectives pairwise) for nsga2 arms and archive-ARM.png (the repertoire as heat maps) for
-    map-elites arms; with --gaits or --cell, GIFs of chosen gaits (docs/strategies.md); and
-    report.html, all of it in one page that opens from a file (docs/study.md).
+    map-elites arms; for mujoco-horse arms, the realism and robustness sections, measured by
+    --assess (docs/fitness.md); with --gaits or --cell, GIFs of chosen gaits (docs/strategies.md);
+    and report.html, all of it in one page that opens from a file (docs/study.md).
     """
     require_extra("matplotlib", "reports")
     require_extra("scipy", "reports")
@@ -61,7 +71,9 @@ def command(
         require_extra("PIL", "animations")
     check_output(out, force=False, directory=True, parents=True, flag="-o")  # before reading the runs
     try:
-        written = make_report(directories, out, force=force, gaits=gaits, chosen=chosen)
+        written = make_report(
+            directories, out, force=force, gaits=gaits, chosen=chosen, assess=assess, progress=err.print
+        )
     except (ReportError, GalleryError) as error:
         err.print(f"error: {error}", style="bold red")
         raise typer.Exit(2) from None

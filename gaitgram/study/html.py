@@ -139,7 +139,8 @@ def _section(section: Section, images: Mapping[str, bytes]) -> list[str]:
     if section.footnote:
         lines.append(f"<p>{_inline(section.footnote)}</p>")
     figures = [line for figure in section.figures for line in _figure(figure, images)]
-    gallery = all(figure.formats == ("gif",) for figure in section.figures)
+    gallery = section.name == "gaits"
+
     lines += ['<div class="gallery">', *figures, "</div>"] if figures and gallery else figures
     lines.append("</section>")
     return lines

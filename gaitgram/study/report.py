@@ -21,24 +21,31 @@ Written files: ``summary.md``, ``summary.csv``, ``tables.tex``,
 ``summary.json``, ``convergence.png`` and ``convergence.svg``; for an arm whose
 runs keep a Pareto front (``nsga2``) ``front-ARM.png``, the fronts' objectives
 pairwise, and for one whose runs keep a repertoire (``map-elites``)
-``archive-ARM.png``, its cells as heat maps; on request, GIFs of each arm's
-best walk, of trade-off gaits and of repertoire cells; last, ``report.html``,
-all of it in one page.
+``archive-ARM.png``, its cells as heat maps; for ``mujoco-horse`` arms the
+realism and robustness sections (``realism-*.csv``, ``robustness-*.csv``,
+``realism.png`` and ``realism.svg``), read from the assessments ``make_report(...,
+assess=True)`` (``gaitgram report --assess``) keeps in the run directories; on
+request, GIFs of each arm's best walk (beside it ``curves-ARM.png``, its gaits on
+the real walks' band), of trade-off gaits and of repertoire cells; last,
+``report.html``, all of it in one page.
 """
 
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 
 from gaitgram.fileio import OutputError, check_output, write_atomically
 from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts, load_repertoire
+from gaitgram.study.assess import assess_arms
 from gaitgram.study.figures import draw, rendered
 from gaitgram.study.formats import text_files
 from gaitgram.study.gallery import gaits_section, render_gaits, spread_cells
 from gaitgram.study.html import html
-from gaitgram.study.model import Gait, StudyReport, build_report, fronts_section
+from gaitgram.study.kept_gaits import arm_curves_figure, load_assessed, realism_section, robustness_section
+from gaitgram.study.model import Gait, Section, StudyReport, build_report, figure_name, fronts_section
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable, load_arms
 
 HTML = "report.html"
@@ -60,11 +67,28 @@ def study_report(
         for name, repertoire in repertoires.items()
         if repertoire is not None
     }
+    assessed = [found for found in map(load_assessed, arms) if found is not None]
+    gallery = gaits_section(arms, fronts, repertoires, cells, gaits=gaits)
     sections = (
         fronts_section(arms, fronts, repertoires, cells),
-        gaits_section(arms, fronts, repertoires, cells, gaits=gaits),
+        realism_section(arms, assessed),
+        robustness_section(arms, assessed),
+        gallery and _beside_the_real_walks(gallery, arms, assessed),
     )
     return build_report(arms, title=title, sections=[s for s in sections if s is not None])
+
+
+def _beside_the_real_walks(gallery: Section, arms: Sequence[ArmRecord], assessed: Sequence) -> Section:
+    """The gallery with each arm's curves (its runs' best gaits on the real walks' band) after its
+    animated best walk, where its gaits were measured."""
+    curves = {a.arm: arm_curves_figure(arms, a) for a in assessed}
+    figures = []
+    for figure in gallery.figures:
+        figures.append(figure)
+        for arm, beside in curves.items():
+            if beside is not None and figure.name == figure_name("walk", arm, ""):
+                figures.append(beside)
+    return replace(gallery, figures=tuple(figures))
 
 
 def kept_sets(arms: Sequence[ArmRecord]) -> tuple[dict[str, list[Front]], dict[str, Repertoire | None]]:
@@ -142,10 +166,15 @@ def make_report(
     force: bool = False,
     gaits: int = 0,
     chosen: Sequence[tuple[int, ...]] = (),
+    assess: bool = False,
+    progress: Callable[[str], None] | None = None,
 ) -> list[Path]:
     """``gaitgram report``: the report of study or run directories whose runs have all finished,
-    written to ``out``; the files written."""
+    written to ``out``; the files written. With ``assess``, each run's best gait is first measured
+    where its kept assessment is missing or stale (simulation; :mod:`gaitgram.study.assess`)."""
     arms, title = load_arms(directories)
     check_comparable(arms)  # before anything is made
+    if assess:
+        assess_arms([arm.path for arm in arms], progress=progress)
     report = study_report(arms, title=title, gaits=gaits, chosen=chosen)
     return write_report(report, out, force=force)
