@@ -1,6 +1,6 @@
 """``report.html`` in a real browser: Debian's Chromium, headless, opens the page from disk.
 
-Driven through Playwright (its own Chromium is not downloaded: it launches the system's), which
+Driven through Playwright (:mod:`study.browser`; its own Chromium is not downloaded), which
 reports the page's console messages and uncaught errors as events and clicks a header as a user
 does (a real mouse event, not a function called from outside). The page must render with no
 console error and no request beyond the file itself, its tables must hold their rows, a click on a
@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import io
 import re
-import shutil
 from collections.abc import Iterator
 from dataclasses import replace
 from pathlib import Path
@@ -19,6 +18,7 @@ from typing import Any
 
 import pytest
 from PIL import Image
+from study.browser import Opened, chromium
 from study.report_fixtures import write_hand_made_study
 from typer.testing import CliRunner
 
@@ -29,17 +29,6 @@ from gaitgram.study.records import load_arms
 from gaitgram.study.report import study_report
 
 runner = CliRunner()
-CHROMIUM = shutil.which("chromium")
-#: As the probe that set up the machine ran it: without the background-networking flags its
-#: connections are refused by the closed network and logged as errors.
-FLAGS = [
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-]
 
 
 @pytest.fixture(scope="module")
@@ -71,40 +60,8 @@ def test_the_same_report_gives_the_same_page(report: Path, tmp_path: Path) -> No
 
 @pytest.fixture(scope="module")
 def browser() -> Iterator[Any]:
-    if CHROMIUM is None:
-        pytest.skip("chromium is not installed (Debian: apt-get install chromium; .ci/run installs it)")
-    sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed ('.[dev]')")
-    sync_playwright = sync_api.sync_playwright
-
-    with sync_playwright() as playwright:
-        launched = playwright.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+    with chromium() as launched:
         yield launched
-        launched.close()
-
-
-class Opened:
-    """A page loaded from a file, with everything it said and asked for."""
-
-    def __init__(self, browser: Any, path: Path) -> None:
-        self.page = browser.new_page(viewport={"width": 1280, "height": 900})
-        self.errors: list[str] = []
-        self.requests: list[str] = []
-        self.page.on("console", lambda m: self.errors.append(m.text) if m.type == "error" else None)
-        self.page.on("pageerror", lambda error: self.errors.append(str(error)))
-        self.page.on("request", lambda request: self.requests.append(request.url))
-        self.page.goto(path.as_uri(), wait_until="load")
-
-    def column(self, table: str, index: int) -> list[str]:
-        return self.page.eval_on_selector_all(
-            f"#{table} tbody tr", f"rows => rows.map(r => r.cells[{index}].textContent)"
-        )
-
-    def images(self) -> list[dict[str, Any]]:
-        return self.page.eval_on_selector_all(
-            "img",
-            "images => images.map(i => ({complete: i.complete, width: i.naturalWidth, "
-            "kind: i.src.slice(5, i.src.indexOf(';'))}))",
-        )
 
 
 def test_chromium_renders_the_report(browser: Any, report: Path, tmp_path: Path) -> None:
