@@ -73,6 +73,7 @@ class Assessed:
     """One run's best gait, as its kept assessment measured it."""
 
     run: int
+    genome: tuple[int, ...]
     fitness: float
     walk: bool | None  # the gait is a walk by the walk criterion (the run's records)
     gait: str  # "measured", "falls" (or does not step), "invalid"
@@ -208,7 +209,14 @@ def _assessed(kept: dict[str, Any], run: int, walk: bool | None, path: Any, arm:
     fitness = kept.get("fitness")
     if not _number(fitness):
         raise damaged("fitness: not a number")
-    return Assessed(run, float(fitness), walk, gait, measures, scores, distance, curves, tuple(checked))
+    genome = kept.get("genome")
+    if not isinstance(genome, list) or not all(
+        isinstance(c, int) and not isinstance(c, bool) for c in genome
+    ):
+        raise damaged("genome: not a list of codons")
+    return Assessed(
+        run, tuple(genome), float(fitness), walk, gait, measures, scores, distance, curves, tuple(checked)
+    )
 
 
 # ---- figure data -------------------------------------------------------------------------------
@@ -424,15 +432,22 @@ def realism_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed]) 
     )
 
 
-def _curves(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed], title: str) -> RealismCurves:
+def _curves(
+    arms: Sequence[ArmRecord],
+    assessed: Sequence[ArmAssessed],
+    title: str,
+    highlight: dict[str, Assessed | None] | None = None,
+) -> RealismCurves:
+    """Each arm's curves: ``highlight``'s gait thick (default: the arm's best by fitness)."""
     index = {a.name: k for k, a in enumerate(arms)}
+    chosen = {a.arm: (highlight or {}).get(a.arm, a.best) for a in assessed}
     return RealismCurves(
         tuple(
             ArmCurves(
                 a.arm,
                 index.get(a.arm, k),
-                a.best.curves if a.best else None,
-                tuple(g.curves for g in a.measured if g is not a.best and g.curves is not None),
+                chosen[a.arm].curves if chosen[a.arm] else None,
+                tuple(g.curves for g in a.measured if g is not chosen[a.arm] and g.curves is not None),
             )
             for k, a in enumerate(assessed)
         ),
@@ -440,17 +455,25 @@ def _curves(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed], title: s
     )
 
 
-def arm_curves_figure(arms: Sequence[ArmRecord], assessed: ArmAssessed) -> Figure | None:
-    """One arm's best gaits' curves on the real walks' band, to show beside its animated walk."""
+def arm_curves_figure(
+    arms: Sequence[ArmRecord], assessed: ArmAssessed, walk: Sequence[int] | None = None
+) -> Figure | None:
+    """One arm's best gaits' curves on the real walks' band, to show beside its animated ``walk``
+    (a genome): thick, that walk's, if it is a run's best gait; else the arm's best by fitness."""
     if not assessed.measured:
         return None
-    best = assessed.best
-    assert best is not None
+    same = [g for g in assessed.measured if walk is not None and g.genome == tuple(walk)]
+    shown = same[0] if same else assessed.best
+    assert shown is not None
+    if same:
+        thick = f"thick: the walk beside, run {shown.run}'s best gait"
+    else:
+        thick = f"thick: run {shown.run}'s, the best by fitness (the walk beside is not a run's best gait)"
     caption = (
         f"{assessed.arm}: its runs' best gaits over one stride beside the real walks (grey: mean and SD); "
-        f"thick: run {best.run}'s, the best by fitness"
+        + thick
     )
-    data = _curves(arms, [assessed], f"{assessed.arm} beside the real walks")
+    data = _curves(arms, [assessed], f"{assessed.arm} beside the real walks", {assessed.arm: shown})
     return Figure(figure_name("curves", assessed.arm, ""), caption, data, ("png",))
 
 

@@ -81,12 +81,13 @@ def study_report(
 def _beside_the_real_walks(gallery: Section, arms: Sequence[ArmRecord], assessed: Sequence) -> Section:
     """The gallery with each arm's curves (its runs' best gaits on the real walks' band) after its
     animated best walk, where its gaits were measured."""
-    curves = {a.arm: arm_curves_figure(arms, a) for a in assessed}
+    walks = {figure_name("walk", a.arm, ""): a for a in assessed}
     figures = []
     for figure in gallery.figures:
         figures.append(figure)
-        for arm, beside in curves.items():
-            if beside is not None and figure.name == figure_name("walk", arm, ""):
+        if figure.name in walks and isinstance(figure.data, Gait):
+            beside = arm_curves_figure(arms, walks[figure.name], figure.data.genome)
+            if beside is not None:
                 figures.append(beside)
     return replace(gallery, figures=tuple(figures))
 
