@@ -11,7 +11,7 @@ import typer
 from gaitgram.cli.common import check_output, err, require_extra
 from gaitgram.study.gallery import GalleryError
 from gaitgram.study.records import ReportError
-from gaitgram.study.report import make_report
+from gaitgram.study.report import make_report, watch_report
 
 
 def command(
@@ -43,6 +43,18 @@ def command(
             "run directories; reports read it from there).",
         ),
     ] = False,
+    watch: Annotated[
+        bool,
+        typer.Option(
+            "--watch",
+            help="Follow a study still running: report the runs finished so far, again each time "
+            "another finishes, until all have (report.html reloads itself meanwhile); Ctrl-C stops.",
+        ),
+    ] = False,
+    interval: Annotated[
+        float,
+        typer.Option(min=1.0, help="With --watch: seconds between looks for newly finished runs."),
+    ] = 30.0,
     cell: Annotated[
         list[str] | None,
         typer.Option(
@@ -61,7 +73,8 @@ def command(
     objectives pairwise) for nsga2 arms and archive-ARM.png (the repertoire as heat maps) for
     map-elites arms; for mujoco-horse arms, the realism and robustness sections, measured by
     --assess (docs/fitness.md); with --gaits or --cell, GIFs of chosen gaits (docs/strategies.md);
-    and report.html, all of it in one page that opens from a file (docs/study.md).
+    and report.html, all of it in one page that opens from a file (docs/study.md). With --watch,
+    a study still running is reported over its finished runs, again as more finish.
     """
     require_extra("matplotlib", "reports")
     require_extra("scipy", "reports")
@@ -71,9 +84,21 @@ def command(
         require_extra("PIL", "animations")
     check_output(out, force=False, directory=True, parents=True, flag="-o")  # before reading the runs
     try:
-        written = make_report(
-            directories, out, force=force, gaits=gaits, chosen=chosen, assess=assess, progress=err.print
-        )
+        if watch:
+            written = watch_report(
+                directories,
+                out,
+                interval=interval,
+                force=force,
+                gaits=gaits,
+                chosen=chosen,
+                assess=assess,
+                progress=err.print,
+            )
+        else:
+            written = make_report(
+                directories, out, force=force, gaits=gaits, chosen=chosen, assess=assess, progress=err.print
+            )
     except (ReportError, GalleryError) as error:
         err.print(f"error: {error}", style="bold red")
         raise typer.Exit(2) from None

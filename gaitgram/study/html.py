@@ -105,7 +105,9 @@ def html(report: StudyReport, images: Mapping[str, bytes], *, refresh: float | N
         "<body>",
         f"<h1>{escape(title)}</h1>",
     ]
-    body = [line for section in report.document for line in _section(section, images)]
+    ongoing = [s for s in report.document if s.name == "progress"]  # a study still running: first
+    ordered = [*ongoing, *(s for s in report.document if s.name != "progress")]
+    body = [line for section in ordered for line in _section(section, images)]
     arm = report.arms[0]
     scored = f"Scored by {arm.backend} ({arm.backend_version}). " if arm.backend else ""
     tail = [

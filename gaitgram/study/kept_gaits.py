@@ -108,7 +108,7 @@ def load_assessed(arm: ArmRecord) -> ArmAssessed | None:
     if arm.backend != MEASURED_ON:
         return None
     found, missing, stale = [], [], []
-    for run, record in enumerate(arm.runs):
+    for run, record in zip(arm.numbers, arm.runs, strict=True):
         path = assessment_path(arm.path, run)
         if not path.exists():
             missing.append(run)

@@ -33,6 +33,7 @@ the real walks' band), of trade-off gaits and of repertoire cells; last,
 from __future__ import annotations
 
 import contextlib
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -111,8 +112,10 @@ def write_report(
     out: Path,
     *,
     force: bool = False,
+    refresh: float | None = None,
 ) -> list[Path]:
-    """The whole report, tables, figures, GIFs and page, or none of it: every file is checked first
+    """The whole report, tables, figures, GIFs and page (reloading itself every ``refresh``
+    seconds, for a study still running), or none of it: every file is checked first
     (an existing one needs ``force``), and if anything fails (a GIF that cannot be rendered, a
     full disk, Ctrl-C) the files and directories made so far are removed again. Each file is
     replaced at once: a reader never sees half of one."""
@@ -129,7 +132,7 @@ def write_report(
         for name, text in text_files(report).items():
             write_atomically(out / name, text)
         images = _draw_figures(report, out)
-        write_atomically(out / HTML, html(report, images))
+        write_atomically(out / HTML, html(report, images, refresh=refresh))
         return planned
     except BaseException:
         for path in new:
@@ -179,3 +182,87 @@ def make_report(
         assess_arms([arm.path for arm in arms], progress=progress)
     report = study_report(arms, title=title, gaits=gaits, chosen=chosen)
     return write_report(report, out, force=force)
+
+
+def progress_section(arms: Sequence[ArmRecord], planned: int, interval: float) -> Section | None:
+    """What a page of a study still running says first: how many of the ``planned`` runs have
+    finished; None when all have."""
+    finished = sum(len(a.runs) for a in arms)
+    if finished >= planned:
+        return None
+    per_arm = ", ".join(f"{a.name} {len(a.runs)} of {max(a.planned_runs, len(a.runs))}" for a in arms)
+    return Section(
+        "progress",
+        "Study in progress",
+        f"{finished} of {planned} runs finished",
+        text=(
+            f"Everything below is over the runs finished so far ({per_arm}); arms with none yet are left "
+            f"out. `gaitgram report --watch` makes it again as runs finish, and this page reloads itself "
+            f"every {interval:g} s."
+        ),
+    )
+
+
+def watch_report(
+    directories: Sequence[Path],
+    out: Path,
+    *,
+    interval: float = 30.0,
+    force: bool = False,
+    gaits: int = 0,
+    chosen: Sequence[tuple[int, ...]] = (),
+    assess: bool = False,
+    progress: Callable[[str], None] | None = None,
+    sleep: Callable[[float], None] = time.sleep,
+) -> list[Path]:
+    """``gaitgram report --watch``: the report of the runs finished so far, made again each time
+    another finishes (looked for every ``interval`` seconds), its page reloading itself, until every
+    run has finished: then the report is the one :func:`make_report` writes. The files written
+    last."""
+    seen: tuple[tuple[str, tuple[int, ...]], ...] | None = None
+    written: list[Path] = []
+    while True:
+        arms, title = load_arms(directories, finished_only=True)
+        state = tuple((a.name, a.numbers) for a in arms)
+        planned = _planned(directories)
+        done = sum(len(a.runs) for a in arms) >= planned
+        if arms and state != seen:
+            check_comparable(arms)
+            if assess:
+                assess_arms([arm.path for arm in arms], progress=progress)
+            report = study_report(arms, title=title, gaits=gaits, chosen=chosen)
+            ongoing = None if done else progress_section(arms, planned, interval)
+            if ongoing is not None:
+                report = replace(report, sections=(ongoing, *report.sections))
+            written = write_report(
+                report, out, force=force or seen is not None, refresh=None if done else interval
+            )
+            seen = state
+            if progress:
+                runs = sum(len(a.runs) for a in arms)
+                progress(f"{runs} of {planned} runs finished: wrote {out / HTML}")
+        if done:
+            return written
+        sleep(interval)
+
+
+def _planned(directories: Sequence[Path]) -> int:
+    """How many runs the study or run directories will have when finished."""
+    from gaitgram.evolution.rundir import RunDirectoryError, read_manifest, saved_config
+    from gaitgram.study.manifest import STUDY_MANIFEST, read_study_manifest
+    from gaitgram.study.spec import StudyError
+
+    paths: list[Path] = []
+    for directory in directories:
+        if (directory / STUDY_MANIFEST).is_file():
+            try:
+                manifest = read_study_manifest(directory)
+            except StudyError as error:
+                raise ReportError(str(error)) from None
+            paths += [directory / "arms" / a.name for a in manifest.arms]
+        else:
+            paths.append(directory)
+    try:
+        return sum(saved_config(p, read_manifest(p)).runs for p in paths)
+    except RunDirectoryError as error:
+        raise ReportError(str(error)) from None
