@@ -11,7 +11,7 @@ length at the gait's speed with what Alexander's relations predict at that speed
 Alexander 1976; Alexander & Jayes 1983), the fetlock angles' ranges and the limbs' most
 protracted and retracted angles, each beside the DLC_Horse walks (``seeds/dlc_walk.json``: median
 and IQR); the realism distance per gait (defined in
-:mod:`gaitgram.backends.mujoco_horse.realism` and docs/fitness.md) per arm, with the rank tests;
+:mod:`gaitgram.backends.mujoco_horse.realism` and docs/study.md) per arm, with the rank tests;
 and a figure overlaying the arms' best gaits' curves on the real walks' band.
 
 **Robustness** (*Robust, not only sustained*): per arm, the share of the runs' best gaits that stay
@@ -342,7 +342,7 @@ def realism_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed]) 
         "predict at that speed for the model's hip height (Froude-scaled). The **realism distance** of a "
         "gait is the mean over eight measures (duty factor, three footfall phases, four curves) of its "
         "distance from the real walks in units of their spread: 0 is their median gait, about 0.67 a gait "
-        "at their quartiles in every measure (docs/fitness.md). Image-plane angles from one camera compare "
+        "at their quartiles in every measure (docs/study.md). Image-plane angles from one camera compare "
         "in shape and range, not to the degree. " + ASSESS_TEXT
     )
     columns = [
@@ -498,7 +498,7 @@ def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed
         "Each run's best gait played from the standing horse to the horizon under each disturbance: "
         + "; ".join(f"**{n}**: {d}" for n, d in disturbances.items())
         + ". A gait **holds** when it stays upright for the whole horizon and is walking again by the walk "
-        "criterion over the horizon's last cycles (docs/fitness.md). Shares are of the runs' best gaits "
+        "criterion over the horizon's last cycles (docs/study.md). Shares are of the runs' best gaits "
         "measured; *walk*: the best gait is a walk undisturbed. " + ASSESS_TEXT
     )
     columns = [
