@@ -26,12 +26,15 @@ import numpy as np
 
 from gaitgram import jsonio
 from gaitgram.evolution.checkpoint import load_checkpoint
-from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, read_manifest
+from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_walk_of_runs, read_manifest
 from gaitgram.fileio import write_atomically
 from gaitgram.study.records import ReportError
 
 #: The file each run directory keeps its best gait's assessment in.
 ASSESSMENT = "assessment.json"
+#: The file an arm's run directory keeps its best walk's assessment in (the walk a report with
+#: ``--gaits`` animates; it may be no run's best gait).
+BEST_WALK = "best-walk-assessment.json"
 #: Raised when what is measured, or how, changes: every kept assessment is then stale.
 FORMAT = 1
 #: The backend whose gaits are measured.
@@ -92,19 +95,45 @@ def assess_arm(
         if not force and _kept(assessment_path(path, run), record):
             continue
         wanted.append((run, record))
+    walk = _best_walk(directory, version)
+    if walk is not None and (force or not _kept(path / BEST_WALK, walk)):
+        wanted.append((-1, walk))
     if not wanted:
         return []
     if progress:
-        progress(f"measuring the best gaits of {len(wanted)} run(s) of {path}")
-    generation = pipeline.config.generations
-    batch = pipeline.motion(pipeline.map([tuple(r["genome"]) for _, r in wanted]), generation)
+        runs = sum(run >= 0 for run, _ in wanted)
+        also = " and its best walk" if wanted[-1][0] < 0 else ""
+        progress(f"measuring the best gaits of {runs} run(s){also} of {path}")
+    batch = pipeline.motion(
+        pipeline.map([tuple(r["genome"]) for _, r in wanted]), pipeline.config.generations
+    )
     measured = measure(dict(pipeline.config.backend_settings), batch)
     written = []
     for (run, record), found in zip(wanted, measured, strict=True):
-        target = assessment_path(path, run)
+        target = assessment_path(path, run) if run >= 0 else path / BEST_WALK
         write_atomically(target, jsonio.dumps({**record, **found}, indent=1) + "\n")
         written.append(target)
     return written
+
+
+def _best_walk(directory: RunDirectory, version: str) -> dict[str, Any] | None:
+    """The record naming the best walk any run hands back (as the report's gallery picks it);
+    None if none does."""
+    if directory.pipeline.spec.verdict is None:
+        return None
+    try:
+        walk = best_walk_of_runs(directory)
+    except RunDirectoryError:
+        return None
+    return {
+        "format": FORMAT,
+        "backend": MEASURED_ON,
+        "backend_version": version,
+        "generation": walk.generation,
+        "genome": [int(c) for c in walk.genome],
+        "fitness": float(walk.evaluation.fitness),
+        "run": walk.run,
+    }
 
 
 def _kept(path: Path, record: dict[str, Any]) -> bool:

@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from gaitgram.study.assess import ASSESSMENT, FORMAT, MEASURED_ON, assessment_path, kept_key
+from gaitgram.study.assess import ASSESSMENT, BEST_WALK, FORMAT, MEASURED_ON, assessment_path, kept_key
 from gaitgram.study.model import Column, Figure, Kind, RankTests, Section, Table, figure_name
 from gaitgram.study.records import ArmRecord, ReportError
 from gaitgram.study.stats import bootstrap_median_ci, compare
@@ -91,6 +91,7 @@ class ArmAssessed:
     found: tuple[Assessed, ...]  # current assessments, by run
     missing: tuple[int, ...]  # runs with none
     stale: tuple[int, ...]  # runs whose assessment is of another gait, scoring or format
+    walk: Assessed | None = None  # the arm's best walk (which may be no run's best gait), if kept
 
     @property
     def measured(self) -> tuple[Assessed, ...]:
@@ -126,7 +127,15 @@ def load_assessed(arm: ArmRecord) -> ArmAssessed | None:
             stale.append(run)
             continue
         found.append(_assessed(kept, run, record.walk, path, arm))
-    return ArmAssessed(arm.name, len(arm.runs), tuple(found), tuple(missing), tuple(stale))
+    walk = None
+    if (arm.path / BEST_WALK).exists():
+        kept = _read(arm.path / BEST_WALK, arm)
+        run = kept.get("run")
+        if kept.get("format") == FORMAT and kept.get("backend_version") == arm.backend_version:
+            if not isinstance(run, int) or isinstance(run, bool):
+                raise ReportError(f"{arm.path / BEST_WALK}: run: not a run number; {_again(arm)}")
+            walk = _assessed(kept, run, True, arm.path / BEST_WALK, arm)
+    return ArmAssessed(arm.name, len(arm.runs), tuple(found), tuple(missing), tuple(stale), walk)
 
 
 def _again(arm: ArmRecord) -> str:
@@ -462,10 +471,13 @@ def arm_curves_figure(
     (a genome): thick, that walk's, if it is a run's best gait; else the arm's best by fitness."""
     if not assessed.measured:
         return None
-    same = [g for g in assessed.measured if walk is not None and g.genome == tuple(walk)]
+    kept_walk = [assessed.walk] if assessed.walk and assessed.walk.gait == "measured" else []
+    same = [g for g in (*assessed.measured, *kept_walk) if walk is not None and g.genome == tuple(walk)]
     shown = same[0] if same else assessed.best
     assert shown is not None
-    if same:
+    if same and shown is assessed.walk:
+        thick = f"thick: the walk beside (from run {shown.run}'s last population)"
+    elif same:
         thick = f"thick: the walk beside, run {shown.run}'s best gait"
     else:
         thick = f"thick: run {shown.run}'s, the best by fitness (the walk beside is not a run's best gait)"

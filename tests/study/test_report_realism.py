@@ -27,9 +27,9 @@ from typer.testing import CliRunner
 
 from conftest import GRAMMARS
 from gaitgram.cli import app
-from gaitgram.evolution.rundir import RunDirectory
+from gaitgram.evolution.rundir import RunDirectory, best_walk_of_runs
 from gaitgram.study import assess as assess_module
-from gaitgram.study.assess import ASSESSMENT, assess_arm
+from gaitgram.study.assess import ASSESSMENT, BEST_WALK, assess_arm
 
 runner = CliRunner()
 PAPER_WEIGHTS = (
@@ -89,8 +89,12 @@ def test_each_run_s_best_gait_is_measured_as_the_backend_measures_it(made: Path)
             assert record["fitness"] == best["fitness"]
             assert record["gait"] in ("measured", "falls")
             assert [t["disturbance"] for t in record["trials"]] == ["push-forward", "push-backward", "bumps"]
-    # recomputed independently through the backend's own functions, for one gait
+    # the walk the report animates is measured too, from wherever in the runs it comes
     directory = RunDirectory.open(made / "ge")
+    walk = json.loads((made / "ge" / BEST_WALK).read_text())
+    assert walk["genome"] == list(best_walk_of_runs(directory).genome)
+    assert walk["gait"] == "measured"
+    # recomputed independently through the backend's own functions, for one gait
     pipeline = directory.pipeline
     record = kept(made / "ge")[0]
     batch = pipeline.motion(pipeline.map([tuple(record["genome"])]), pipeline.config.generations)
@@ -227,6 +231,9 @@ def test_chromium_shows_the_sections_and_the_animated_walk_beside_the_real_walks
     assert curves is not None
     assert curves["x"] >= walk["x"] + walk["width"]  # side by side
     assert abs(curves["y"] - walk["y"]) < 1
+    caption = page.locator("#curves-ge figcaption").text_content()
+    assert caption is not None
+    assert "thick: the walk beside" in caption  # the animated walk's own curves, measured
     header = page.locator("#realism-distance th", has_text="median distance")
     header.click()
     medians = [float(v.split(" ")[0]) for v in opened.column("realism-distance", 4)]
