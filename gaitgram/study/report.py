@@ -40,7 +40,7 @@ from pathlib import Path
 
 from gaitgram.fileio import OutputError, check_output, write_atomically
 from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts, load_repertoire
-from gaitgram.study.assess import assess_arms
+from gaitgram.study.assess import MEASURED_ON, assess_arms
 from gaitgram.study.figures import draw, rendered
 from gaitgram.study.formats import text_files
 from gaitgram.study.gallery import gaits_section, render_gaits, spread_cells
@@ -179,7 +179,7 @@ def make_report(
     arms, title = load_arms(directories)
     check_comparable(arms)  # before anything is made
     if assess:
-        assess_arms([arm.path for arm in arms], progress=progress)
+        assess_arms([arm.path for arm in arms if arm.backend == MEASURED_ON], progress=progress)
     report = study_report(arms, title=title, gaits=gaits, chosen=chosen)
     return write_report(report, out, force=force)
 
@@ -229,7 +229,7 @@ def watch_report(
         if arms and state != seen:
             check_comparable(arms)
             if assess:
-                assess_arms([arm.path for arm in arms], progress=progress)
+                assess_arms([arm.path for arm in arms if arm.backend == MEASURED_ON], progress=progress)
             report = study_report(arms, title=title, gaits=gaits, chosen=chosen)
             ongoing = None if done else progress_section(arms, planned, interval)
             if ongoing is not None:
