@@ -11,7 +11,7 @@ import typer
 from gaitgram.cli.common import check_output, err, require_extra
 from gaitgram.study.gallery import GalleryError
 from gaitgram.study.records import ReportError
-from gaitgram.study.report import make_report
+from gaitgram.study.report import make_report, watch_report
 
 
 def command(
@@ -29,10 +29,32 @@ def command(
         int,
         typer.Option(
             min=0,
-            help="Animate this many gaits per nsga2 or map-elites arm: trade-offs spread along the "
-            "front, repertoire cells spread along the first descriptor (mujoco-horse; slow).",
+            help="Animate each arm's best walk, and this many gaits per nsga2 or map-elites arm: "
+            "trade-offs spread along the front, repertoire cells spread along the first descriptor "
+            "(mujoco-horse; slow).",
         ),
     ] = 0,
+    assess: Annotated[
+        bool,
+        typer.Option(
+            "--assess",
+            help="First measure each run's best gait beside the real walks and under disturbances "
+            "where not yet measured (mujoco-horse; simulation, kept in run-NNN/assessment.json of the "
+            "run directories; reports read it from there).",
+        ),
+    ] = False,
+    watch: Annotated[
+        bool,
+        typer.Option(
+            "--watch",
+            help="Follow a study still running: report the runs finished so far, again each time "
+            "another finishes, until all have (report.html reloads itself meanwhile); Ctrl-C stops.",
+        ),
+    ] = False,
+    interval: Annotated[
+        float,
+        typer.Option(min=1.0, help="With --watch: seconds between looks for newly finished runs."),
+    ] = 30.0,
     cell: Annotated[
         list[str] | None,
         typer.Option(
@@ -49,7 +71,10 @@ def command(
     convergence figures with confidence bands. Writes summary.md (also printed), summary.csv,
     summary.json, tables.tex, convergence.png and convergence.svg; front-ARM.png (Pareto fronts,
     objectives pairwise) for nsga2 arms and archive-ARM.png (the repertoire as heat maps) for
-    map-elites arms; with --gaits or --cell, GIFs of chosen gaits (docs/strategies.md).
+    map-elites arms; for mujoco-horse arms, the realism and robustness sections, measured by
+    --assess (docs/fitness.md); with --gaits or --cell, GIFs of chosen gaits (docs/strategies.md);
+    and report.html, all of it in one page that opens from a file (docs/study.md). With --watch,
+    a study still running is reported over its finished runs, again as more finish.
     """
     require_extra("matplotlib", "reports")
     require_extra("scipy", "reports")
@@ -59,7 +84,21 @@ def command(
         require_extra("PIL", "animations")
     check_output(out, force=False, directory=True, parents=True, flag="-o")  # before reading the runs
     try:
-        written = make_report(directories, out, force=force, gaits=gaits, chosen=chosen)
+        if watch:
+            written = watch_report(
+                directories,
+                out,
+                interval=interval,
+                force=force,
+                gaits=gaits,
+                chosen=chosen,
+                assess=assess,
+                progress=err.print,
+            )
+        else:
+            written = make_report(
+                directories, out, force=force, gaits=gaits, chosen=chosen, assess=assess, progress=err.print
+            )
     except (ReportError, GalleryError) as error:
         err.print(f"error: {error}", style="bold red")
         raise typer.Exit(2) from None
