@@ -57,22 +57,25 @@ def build_cfg(grammar: Grammar) -> Cfg:
     extra_choices: dict[int, tuple[tuple[Item, ...], ...]] = {}
     range_rules: dict[str, int] = {}
 
+    def added(name: str, kind: RuleKind, rule_choices: tuple[tuple[Item, ...], ...]) -> int:
+        """A rule the grammar does not define (an undefined name, a range), numbered after the rest."""
+        names.append(name)
+        kinds.append(kind)
+        extra_choices[len(names) - 1] = rule_choices
+        return len(names) - 1
+
     def rule_for(symbol: NonTerminal) -> int:
         found = index.get(symbol.name)
         if found is None:
-            found = index[symbol.name] = len(names)
-            names.append(symbol.name)
-            kinds.append(RuleKind.UNDEFINED)
-            extra_choices[found] = ()
+            found = index[symbol.name] = added(symbol.name, RuleKind.UNDEFINED, ())
         return found
 
     def range_rule(spec: RangeSpec) -> int:
         found = range_rules.get(spec.text)
         if found is None:
-            found = range_rules[spec.text] = len(names)
-            names.append(spec.text)
-            kinds.append(RuleKind.RANGE)
-            extra_choices[found] = tuple((value,) for value in spec.values)
+            found = range_rules[spec.text] = added(
+                spec.text, RuleKind.RANGE, tuple((value,) for value in spec.values)
+            )
         return found
 
     for rule in rules:

@@ -13,14 +13,17 @@ from __future__ import annotations
 
 import heapq
 from collections import deque
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TypeVar
 
-from gaitgram.analysis.cfg import Cfg, RuleKind, build_cfg
+from gaitgram.analysis.cfg import Cfg, Item, RuleKind, build_cfg
 from gaitgram.language.model import Grammar
 
 INFINITE = float("inf")
+
+Value = TypeVar("Value", int, float)
 
 
 @dataclass(frozen=True, slots=True)
@@ -104,47 +107,66 @@ def min_depths(
     treated as finishing at depth 1 (the linter uses it for undefined names, so
     that one missing rule is reported once, not as a cascade).
     """
-    n = len(cfg)
-    depth: list[int | None] = [None] * n
+    assume = [(1, r) for r in assume_productive]
+    depth, choice_depth = _least_values(cfg.choices, [1] * len(cfg), assume, summing=False)
+    return tuple(depth), choice_depth
+
+
+def _least_values(
+    rules: Sequence[Sequence[Sequence[Item]]],
+    extra: Sequence[Value],
+    seeds: Iterable[tuple[Value, int]],
+    *,
+    summing: bool,
+) -> tuple[tuple[Value | None, ...], tuple[tuple[Value | None, ...], ...]]:
+    """The least value of each rule (its choices, by rule number) and of each choice (None: it
+    cannot finish), where a choice of rule ``r`` is worth ``extra[r]`` plus the values of the rules
+    it uses: their sum when ``summing``, else the largest. ``seeds`` give rules a value at the start.
+
+    Knuth's generalisation of Dijkstra's algorithm: a choice's value is known once that of its last
+    rule is, and rules leave the heap in order of value, so that last one is also the largest.
+    """
+    n = len(rules)
     # Choices are numbered across the grammar: flat lists index faster than nested ones.
-    flat_depth: list[int | None] = []
-    remaining: list[int] = []
     owner: list[int] = []
     first_choice: list[int] = []
-    users: list[list[int]] = [[] for _ in range(n)]
-    heap: list[tuple[int, int]] = [(1, r) for r in assume_productive]
-    for r, choices in enumerate(cfg.choices):
+    remaining: list[int] = []  # rules a choice waits for, each occurrence once
+    users: list[list[int]] = [[] for _ in range(n)]  # the choices that wait for a rule
+    heap = list(seeds)
+    choice_value: list[Value | None] = []
+    for r, choices in enumerate(rules):
         first_choice.append(len(owner))
-        finishes = False
         for choice in choices:
-            needed = {item for item in choice if item.__class__ is int}
-            c = len(owner)
+            waits = 0
+            for item in choice:
+                if item.__class__ is int:
+                    users[item].append(len(owner))
+                    waits += 1
             owner.append(r)
-            remaining.append(len(needed))
-            if needed:
-                flat_depth.append(None)
-                for child in needed:
-                    users[child].append(c)
-            else:
-                flat_depth.append(1)
-                finishes = True
-        if finishes:
-            heap.append((1, r))
+            remaining.append(waits)
+            choice_value.append(None if waits else extra[r])
+            if not waits:
+                heap.append((extra[r], r))
     first_choice.append(len(owner))
+    value: list[Value | None] = [None] * n
+    total: list[Value] = [0] * len(owner)
     heapq.heapify(heap)
     while heap:
-        d, r = heapq.heappop(heap)
-        if depth[r] is not None:
+        v, r = heapq.heappop(heap)
+        if value[r] is not None:
             continue
-        depth[r] = d
+        value[r] = v
         for c in users[r]:
             remaining[c] -= 1
+            if summing:
+                total[c] += v
             if remaining[c] == 0:
-                flat_depth[c] = d + 1
-                if depth[owner[c]] is None:
-                    heapq.heappush(heap, (d + 1, owner[c]))
-    choice_depth = tuple(tuple(flat_depth[first_choice[r] : first_choice[r + 1]]) for r in range(n))
-    return tuple(depth), choice_depth
+                u = owner[c]
+                found = choice_value[c] = (total[c] if summing else v) + extra[u]
+                if value[u] is None:
+                    heapq.heappush(heap, (found, u))
+    by_rule = tuple(tuple(choice_value[first_choice[r] : first_choice[r + 1]]) for r in range(n))
+    return tuple(value), by_rule
 
 
 def reachable_from(cfg: Cfg, roots: Iterable[int]) -> tuple[bool, ...]:
@@ -227,35 +249,10 @@ def occurrence_bounds(cfg: Cfg, target: int, productive: tuple[bool, ...]) -> tu
         [choice for choice in choices if all(productive[i] for i in choice if isinstance(i, int))]
         for choices in cfg.choices
     ]
-    # Fewest: the same heap algorithm as min_depths, with sums instead of maxima.
+    # Fewest: as min_depths, with sums instead of maxima.
     n = len(cfg)
-    fewest: list[float | None] = [None] * n
-    partial: list[list[float]] = []
-    remaining: list[list[int]] = []
-    users: list[list[tuple[int, int]]] = [[] for _ in range(n)]
-    heap: list[tuple[float, int]] = []
-    for r in range(n):
-        partial.append([0.0] * len(usable[r]))
-        counts = []
-        for c, choice in enumerate(usable[r]):
-            rules = [i for i in choice if isinstance(i, int)]
-            counts.append(len(rules))
-            for child in rules:
-                users[child].append((r, c))
-            if not rules:
-                heap.append((1.0 if r == target else 0.0, r))
-        remaining.append(counts)
-    heapq.heapify(heap)
-    while heap:
-        value, r = heapq.heappop(heap)
-        if fewest[r] is not None:
-            continue
-        fewest[r] = value
-        for u, c in users[r]:
-            partial[u][c] += value
-            remaining[u][c] -= 1
-            if remaining[u][c] == 0 and fewest[u] is None:
-                heapq.heappush(heap, (partial[u][c] + (1.0 if u == target else 0.0), u))
+    extra = [1.0 if r == target else 0.0 for r in range(n)]
+    fewest, _ = _least_values(usable, extra, (), summing=True)
 
     # Most: infinite through any usable cycle that can still reach the target,
     # otherwise a longest-path sum over the acyclic rest (memoised depth-first).

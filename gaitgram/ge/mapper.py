@@ -259,6 +259,11 @@ class Mapper:
         )
 
     # ---- the fast path ---------------------------------------------------------------
+    #
+    # The mapper's hot loops: ``_run_eager``, ``_run_lazy`` and ``_run_depth`` repeat one
+    # expansion step (emit the lead, push the rest, go on with the head, pop terminals) written
+    # out in each on purpose: a shared helper would cost a call per codon, the step that every
+    # evaluation pays. The tree mapper (``map``) is the reference they are tested against.
 
     def map_fast(self, genome: Sequence[int]) -> Mapped:
         """Phenotype, used codons, wraps and joint phenotypes, without building the tree."""

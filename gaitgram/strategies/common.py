@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import difflib
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -16,7 +16,7 @@ from gaitgram.ge.initialisation import ramped_population
 from gaitgram.ge.mapper import Mapper
 from gaitgram.ge.operators import Genome, int_flip_mutation, one_point_crossover
 from gaitgram.pipeline import Individual, Pipeline
-from gaitgram.strategies.api import RunState, StrategyError, elites_of
+from gaitgram.strategies.api import RunContext, RunState, Strategy, StrategyError, elites_of
 
 
 def initial_genomes(pipeline: Pipeline, rng: np.random.Generator, size: int) -> list[Genome]:
@@ -60,6 +60,14 @@ def elitist(
     if pipeline.scores_change(state.generation + 1):
         return evaluated, evaluated[len(elites) :]
     return elites + evaluated, evaluated
+
+
+class Elitist(Strategy):
+    """A strategy whose next population is the best ``elite`` so far and the new gaits
+    (:func:`elitist`), for genomes asked with :func:`with_elites`: ``ge`` and ``random``."""
+
+    def tell(self, context: RunContext, state: RunState, evaluated: list[Individual]) -> list[Individual]:
+        return elitist(state, context.pipeline, evaluated)[0]
 
 
 def require_fixed_scores(pipeline: Pipeline, strategy: str, keeps: str) -> None:
@@ -142,6 +150,16 @@ def known_keys(settings: Mapping[str, Any], keys: Sequence[str], strategy: str) 
         if key not in keys:
             known = f"its settings: {', '.join(keys)}" if keys else "it takes none"
             raise SettingsError(str(key), f"unknown setting of strategy {strategy}; {known}")
+
+
+def no_settings(strategy: str) -> Callable[[Pipeline], Mapping[str, Any]]:
+    """The settings check of a strategy that takes none: any setting is refused."""
+
+    def check(pipeline: Pipeline) -> Mapping[str, Any]:
+        known_keys(pipeline.config.strategy_settings, (), strategy)
+        return {}
+
+    return check
 
 
 def number(settings: Mapping[str, Any], key: str, default: float, low: float, high: float) -> float:

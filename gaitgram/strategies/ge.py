@@ -8,26 +8,20 @@ is what it always was, checkpoint for checkpoint.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any
-
 from gaitgram.ge.operators import tournament
-from gaitgram.pipeline import Individual, Pipeline
-from gaitgram.strategies.api import Genome, RunContext, RunState, Strategy
-from gaitgram.strategies.common import GEVariation, elitist, initial_genomes, known_keys, with_elites
+from gaitgram.pipeline import Pipeline
+from gaitgram.strategies.api import Genome, RunContext, RunState
+from gaitgram.strategies.common import Elitist, GEVariation, initial_genomes, no_settings, with_elites
 from gaitgram.strategies.registry import StrategySpec
 
 
-class GrammaticalEvolution(Strategy):
+class GrammaticalEvolution(Elitist):
     def ask(self, context: RunContext, state: RunState) -> list[Genome]:
         if state.generation < 0:
             if context.start:
                 return list(context.start)
             return initial_genomes(context.pipeline, state.rng, context.pipeline.config.population)
         return offspring(state, context.pipeline)
-
-    def tell(self, context: RunContext, state: RunState, evaluated: list[Individual]) -> list[Individual]:
-        return elitist(state, context.pipeline, evaluated)[0]
 
 
 def offspring(state: RunState, pipeline: Pipeline) -> list[Genome]:
@@ -53,15 +47,10 @@ def offspring(state: RunState, pipeline: Pipeline) -> list[Genome]:
     return with_elites(state, pipeline, variation.mutate(children[:n_offspring], rng))
 
 
-def check(pipeline: Pipeline) -> Mapping[str, Any]:
-    known_keys(pipeline.config.strategy_settings, (), "ge")
-    return {}
-
-
 STRATEGY = StrategySpec(
     name="ge",
     summary="Grammatical evolution: tournaments, one-point crossover, int-flip mutation, elitism.",
     load=GrammaticalEvolution,
-    check=check,
+    check=no_settings("ge"),
     takes_start=True,
 )

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -36,6 +37,14 @@ def _read(path: Path) -> dict[str, Any]:
 
 def run_dirs(arm: Path) -> list[Path]:
     return sorted(p for p in arm.glob("run-[0-9][0-9][0-9]") if p.is_dir())
+
+
+def _records(arm: Path, name: str) -> Iterator[tuple[int, Path, dict[str, Any]]]:
+    """(run, file, its content) of each of an arm's runs that keeps the record ``name``."""
+    for run, directory in enumerate(run_dirs(arm)):
+        path = directory / name
+        if path.is_file():
+            yield run, path, _read(path)
 
 
 #: Where a strategy keeps the set of gaits it hands back, and the key of its members.
@@ -97,10 +106,7 @@ class Front:
 def load_fronts(arm: Path) -> list[Front]:
     """The fronts of an arm's runs (those that keep one)."""
     fronts = []
-    for run, directory in enumerate(run_dirs(arm)):
-        if not (directory / FRONT).is_file():
-            continue
-        data = _read(directory / FRONT)
+    for run, path, data in _records(arm, FRONT):
         try:
             names = data["objectives"]
             if not isinstance(names, list) or not names or not all(isinstance(o, str) for o in names):
@@ -112,7 +118,7 @@ def load_fronts(arm: Path) -> list[Front]:
                 raise ValueError("a member's objectives are not finite numbers")
             points = np.array(values, dtype=float).reshape(-1, len(objectives))
         except (KeyError, TypeError, ValueError) as error:
-            raise RecordError(f"{directory / FRONT}: malformed ({error})") from None
+            raise RecordError(f"{path}: malformed ({error})") from None
         fronts.append(Front(run, objectives, points, members))
     return fronts
 
@@ -149,10 +155,7 @@ def load_repertoire(arm: Path) -> Repertoire | None:
     coverage: np.ndarray | None = None
     elites: dict[tuple[int, ...], dict[str, Any]] = {}
     filled = []
-    for run, directory in enumerate(run_dirs(arm)):
-        if not (directory / ARCHIVE).is_file():
-            continue
-        data = _read(directory / ARCHIVE)
+    for run, path, data in _records(arm, ARCHIVE):
         try:
             if descriptors is None:
                 descriptors = _descriptors(data["descriptors"])
@@ -183,7 +186,7 @@ def load_repertoire(arm: Path) -> Repertoire | None:
                     best[cell] = fitness
                     elites[cell] = {**elite, "run": run}
         except (KeyError, TypeError, ValueError, IndexError, AssertionError) as error:
-            raise RecordError(f"{directory / ARCHIVE}: malformed ({error})") from None
+            raise RecordError(f"{path}: malformed ({error})") from None
     if descriptors is None or best is None or coverage is None:
         return None
     return Repertoire(descriptors, best, coverage, elites, tuple(filled), int(best.size))

@@ -1,0 +1,206 @@
+"""The import graph: no cycle between gaitgram's modules, and no import from a floor to one above.
+
+The floors are read from the table in ``docs/architecture.md``, the one place they are written, so
+the document and this test cannot drift apart. Every import counts: module-level ones, those made
+inside a function, and those under ``if TYPE_CHECKING:``. An import of ``a.b.c`` also counts as an
+import of the packages it opens (``a`` and ``a.b``), since Python runs their ``__init__`` first.
+"""
+
+from __future__ import annotations
+
+import ast
+import itertools
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+#: The import roots: a package directory and the dotted name it is imported as.
+PACKAGES = {"gaitgram": ROOT / "gaitgram", "gaitgram_lsp": ROOT / "lsp" / "gaitgram_lsp"}
+ARCHITECTURE = ROOT / "docs" / "architecture.md"
+
+
+def module_files(packages: dict[str, Path] = PACKAGES) -> dict[str, Path]:
+    """Every module of the packages, by its dotted name (a package by its own name)."""
+    modules: dict[str, Path] = {}
+    for name, directory in packages.items():
+        for path in sorted(directory.rglob("*.py")):
+            parts = [name, *path.relative_to(directory).with_suffix("").parts]
+            if parts[-1] == "__init__":
+                parts.pop()
+            modules[".".join(parts)] = path
+    return modules
+
+
+def _imported_names(module: str, path: Path, tree: ast.Module) -> list[tuple[str, int]]:
+    """Every name ``module`` imports, absolute, with its line.
+
+    ``import a.b`` gives ``a.b``; ``from a import b`` gives ``a.b``, which is the module ``a.b`` or
+    the name ``b`` of the module ``a``: the graph tells which.
+    """
+    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+    names: list[tuple[str, int]] = []
+    for node in ast.walk(tree):  # all of it: function bodies and ``if TYPE_CHECKING:`` blocks too
+        if isinstance(node, ast.Import):
+            names.extend((alias.name, node.lineno) for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - (node.level - 1)]
+                origin = ".".join([*base, node.module] if node.module else base)
+            else:
+                origin = node.module or ""
+            names.extend((f"{origin}.{alias.name}", node.lineno) for alias in node.names)
+    return names
+
+
+def import_graph(packages: dict[str, Path] = PACKAGES) -> dict[str, dict[str, int]]:
+    """Each module's imports of the packages' modules, each with the line of the first such import.
+
+    An import reaches the longest module its name begins with, and opens the packages above that
+    module, except the importing module's own packages, which Python has opened before it runs.
+    """
+    modules = module_files(packages)
+    graph: dict[str, dict[str, int]] = {}
+    for module, path in modules.items():
+        own = {module.rsplit(".", depth)[0] for depth in range(1, module.count(".") + 1)}
+        edges: dict[str, int] = {}
+        for name, line in _imported_names(module, path, ast.parse(path.read_text(), str(path))):
+            parts = name.split(".")
+            reached = [".".join(parts[:end]) for end in range(1, len(parts) + 1)]
+            reached = [target for target in reached if target in modules]
+            if not reached:
+                continue
+            *opened, target = reached
+            for each in [*(package for package in opened if package not in own), target]:
+                if each != module:
+                    edges.setdefault(each, line)
+        graph[module] = edges
+    return graph
+
+
+def floors() -> tuple[list[str], list[tuple[str, str]]]:
+    """The floors, lowest first, and each module pattern with its floor, from docs/architecture.md.
+
+    A pattern is a module written in backticks in a row's second column, relative to ``gaitgram``
+    (``pipeline``), or ``gaitgram`` itself, or a top-level package (``gaitgram_lsp.*``);
+    ``x.*`` stands for ``x`` and everything below it.
+    """
+    names: list[str] = []
+    patterns: list[tuple[str, str]] = []
+    for line in ARCHITECTURE.read_text().splitlines():
+        cells = [cell.strip() for cell in line.strip().strip("|").split("|")]
+        if len(cells) != 3 or not line.lstrip().startswith("|") or cells[0] in {"floor", ""}:
+            continue
+        if set(cells[0]) <= set("-: "):
+            continue
+        names.append(cells[0])
+        for pattern in re.findall(r"`([^`]+)`", cells[1]):
+            if pattern != "gaitgram" and not pattern.startswith(tuple(f"{p}." for p in PACKAGES)):
+                pattern = f"gaitgram.{pattern}"
+            patterns.append((pattern, cells[0]))
+    return names, patterns
+
+
+def floor_of(module: str, patterns: list[tuple[str, str]]) -> str | None:
+    """The floor of the most specific pattern that covers ``module`` (None: no floor)."""
+    best: tuple[tuple[int, bool], str] | None = None
+    for pattern, floor in patterns:
+        stem = pattern.removesuffix(".*")
+        exact = stem == pattern
+        covers = module == stem or (not exact and module.startswith(stem + "."))
+        if covers and (best is None or (len(stem), exact) > best[0]):
+            best = ((len(stem), exact), floor)  # ``x`` names the package ``x`` apart from ``x.*``
+    return best[1] if best else None
+
+
+def find_cycle(graph: dict[str, dict[str, int]]) -> list[str] | None:
+    """One cycle of the graph as a path that ends where it starts, or None."""
+    done: set[str] = set()
+    for start in sorted(graph):
+        if start in done:
+            continue
+        path: list[str] = [start]
+        on_path = {start}
+        stack = [iter(sorted(graph[start]))]
+        while stack:
+            following = next(stack[-1], None)
+            if following is None:
+                finished = path.pop()
+                on_path.discard(finished)
+                done.add(finished)
+                stack.pop()
+            elif following in on_path:
+                return [*path[path.index(following) :], following]
+            elif following not in done:
+                path.append(following)
+                on_path.add(following)
+                stack.append(iter(sorted(graph[following])))
+    return None
+
+
+def _where(graph: dict[str, dict[str, int]], source: str, target: str) -> str:
+    path = module_files()[source].relative_to(ROOT)
+    return f"{source} -> {target} ({path}:{graph[source][target]})"
+
+
+def test_the_floor_table_places_every_module_and_only_modules() -> None:
+    names, patterns = floors()
+    assert len(names) >= 10, names
+    assert len(set(names)) == len(names), names
+    modules = module_files()
+    unplaced = [module for module in modules if floor_of(module, patterns) is None]
+    assert not unplaced, f"modules on no floor of docs/architecture.md: {unplaced}"
+    stale = [p for p, floor in patterns if not any(floor_of(m, [(p, floor)]) for m in modules)]
+    assert not stale, f"docs/architecture.md places modules that do not exist: {stale}"
+
+
+@pytest.fixture(scope="module")
+def graph() -> dict[str, dict[str, int]]:
+    return import_graph()
+
+
+def test_no_import_cycle(graph: dict[str, dict[str, int]]) -> None:
+    cycle = find_cycle(graph)
+    assert cycle is None, "import cycle: " + "; ".join(
+        _where(graph, source, target) for source, target in itertools.pairwise(cycle)
+    )
+
+
+def test_no_import_from_a_lower_floor_to_a_higher_one(graph: dict[str, dict[str, int]]) -> None:
+    names, patterns = floors()
+    height = {name: index for index, name in enumerate(names)}
+    upward = []
+    for source, targets in sorted(graph.items()):
+        for target in sorted(targets):
+            below, above = floor_of(source, patterns), floor_of(target, patterns)
+            if below is not None and above is not None and height[above] > height[below]:
+                upward.append(f"{_where(graph, source, target)}: {below} imports {above}")
+    assert not upward, "imports from a lower floor to a higher one:\n" + "\n".join(upward)
+
+
+def test_the_checker_sees_what_it_should(tmp_path: Path) -> None:
+    """Function-local, TYPE_CHECKING, relative and ``from package import module`` imports all make
+    edges, a package's own ``__init__`` is no edge of its modules, and a cycle is found."""
+    package = tmp_path / "pkg"
+    (package / "sub").mkdir(parents=True)
+    files = {
+        "__init__.py": "from pkg.sub import low\n",
+        "top.py": "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from pkg import middle\n",
+        "middle.py": "def f():\n    from .sub.low import name\n",
+        "sub/__init__.py": "",
+        "sub/low.py": "import os\nfrom pkg.sub import low as itself\n\n\ndef g():\n    import pkg.top\n",
+    }
+    for name, text in files.items():
+        (package / name).write_text(text)
+    graph = import_graph({"pkg": package})
+    assert graph == {
+        "pkg": {"pkg.sub": 1, "pkg.sub.low": 1},
+        "pkg.middle": {"pkg.sub": 2, "pkg.sub.low": 2},
+        "pkg.sub": {},
+        "pkg.sub.low": {"pkg.top": 6},
+        "pkg.top": {"pkg.middle": 3},
+    }
+    assert find_cycle(graph) == ["pkg.sub.low", "pkg.top", "pkg.middle", "pkg.sub.low"]
+    assert find_cycle({"a": {"b": 1}, "b": {}, "c": {"a": 1, "b": 1}}) is None
