@@ -95,7 +95,11 @@ class Verdict:
     pending: str | None = None
 
     def holds(self, evaluation: Evaluation) -> bool:
-        return evaluation.status.viable and evaluation.components.get(self.component, 0.0) >= 0.5
+        return self.holds_in(evaluation.components, viable=evaluation.status.viable)
+
+    def holds_in(self, components: Mapping[str, float], *, viable: bool) -> bool:
+        """The verdict read from recorded components (a run's files), for a gait ``viable`` or not."""
+        return viable and components.get(self.component, 0.0) >= 0.5
 
     def candidate(self, evaluation: Evaluation) -> bool:
         """Viable, with every term but the pending one: a verdict that a check could make hold."""

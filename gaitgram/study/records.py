@@ -21,7 +21,11 @@ from typing import Any
 
 import numpy as np
 
+from gaitgram.backends.api import Verdict
+from gaitgram.backends.registry import get_backend
 from gaitgram.evolution.rundir import CONFIG, MANIFEST, RunDirectoryError, read_manifest, saved_config
+from gaitgram.pipeline import DEFAULT_BACKEND
+from gaitgram.plugins import PluginLoadError, PluginNotFound
 from gaitgram.strategies.kept import RecordError, kept_members
 from gaitgram.study.manifest import STUDY_MANIFEST, read_study_manifest
 from gaitgram.study.spec import StudyError
@@ -130,9 +134,10 @@ def load_arm(
         for run in range(config.runs)
         if not (finished_only and _running(path / f"run-{run:03d}", config.generations))
     ]
-    runs = tuple(_load_run(path / f"run-{run:03d}", config.generations, redo) for run in numbers)
     # What scored the runs (a directory without a manifest, hand-made or of gaitgram 0.1, cannot say).
     backend, version = (manifest["backend"], manifest["backend_version"]) if manifest else ("", "")
+    verdict = _verdict(backend or config.backend or DEFAULT_BACKEND)
+    runs = tuple(_load_run(path / f"run-{run:03d}", config.generations, redo, verdict) for run in numbers)
     return ArmRecord(
         name or path.name,
         strategy or config.strategy,
@@ -157,7 +162,16 @@ def _running(path: Path, generations: int) -> bool:
     return sum(bool(line.strip()) for line in lines) < generations + 1 or not (path / "best.json").exists()
 
 
-def _load_run(path: Path, generations: int, redo: str) -> RunRecord:
+def _verdict(backend: str) -> Verdict | None:
+    """The verdict the backend declares (None: it declares none, or is not installed here, in which
+    case walks are not counted rather than guessed)."""
+    try:
+        return get_backend(backend).verdict
+    except (PluginNotFound, PluginLoadError):
+        return None
+
+
+def _load_run(path: Path, generations: int, redo: str, verdict: Verdict | None) -> RunRecord:
     rewrite = f"rewrite the run's records from its checkpoint with: {redo}"
     stats = path / "stats.jsonl"
     lines = [(n, line) for n, line in enumerate(_lines(stats, rewrite), 1) if line.strip()]
@@ -182,7 +196,7 @@ def _load_run(path: Path, generations: int, redo: str) -> RunRecord:
     population = np.array([float(r["evaluations"]) for r in records])
     invalid = column("invalid")
     size = population[0] if population[0] else 1.0
-    walk = best_record["components"].get("walk")
+    components = best_record["components"]
     return RunRecord(
         best=column("best"),
         average=column("average_all") if "average_all" in records[0] else column("average"),
@@ -190,8 +204,10 @@ def _load_run(path: Path, generations: int, redo: str) -> RunRecord:
         unviable_share=invalid / size,
         evaluations=int(population.sum()),
         final_status=best_record["status"],
-        walk=None if walk is None else bool(walk >= 0.5 and best_record["status"] == "ok"),
-        holds_walk=_holds_walk(path, records[-1]),
+        walk=None
+        if verdict is None or verdict.component not in components
+        else verdict.holds_in(components, viable=best_record["status"] == "ok"),
+        holds_walk=_holds_walk(path, records[-1], verdict),
     )
 
 
@@ -266,7 +282,7 @@ def _best_record(path: Path, best: float, rewrite: str) -> dict[str, Any]:
     return record
 
 
-def _holds_walk(path: Path, final: dict[str, Any]) -> bool | None:
+def _holds_walk(path: Path, final: dict[str, Any], verdict: Verdict | None) -> bool | None:
     """Whether the run hands back a walk, even one its weighted best is not: a weighted sum can rank
     a walk below a gait that misses the walk window (docs/results/revision-3/strategies)."""
     try:
@@ -276,8 +292,9 @@ def _holds_walk(path: Path, final: dict[str, Any]) -> bool | None:
     if members is None:
         share = final.get("mean_walk")  # over the final population's viable gaits
         return None if share is None else share > 0
-    walks = [m["components"].get("walk") for m in members]
-    return None if any(w is None for w in walks) else any(w >= 0.5 for w in walks)
+    if verdict is None or any(verdict.component not in m["components"] for m in members):
+        return None
+    return any(verdict.holds_in(m["components"], viable=True) for m in members)
 
 
 def load_study_arms(directory: Path) -> list[ArmRecord]:

@@ -61,7 +61,7 @@ def write_hand_made_study(root: Path) -> Path:
         path = root / "arms" / name
         path.mkdir(parents=True)
         (path / "config.toml").write_text(
-            f'generations = 2\npopulation = 4\nelite = 1\nruns = {len(runs)}\nbackend = "curve-match"\n'
+            f'generations = 2\npopulation = 4\nelite = 1\nruns = {len(runs)}\nbackend = "mujoco-horse"\n'
         )
         for index, final in enumerate(runs):
             directory = path / f"run-{index:03d}"
