@@ -11,7 +11,7 @@ from rich.console import Console
 from rich.table import Table
 
 from gaitgram import jsonio
-from gaitgram.cli.common import err
+from gaitgram.cli.common import err, fail
 from gaitgram.cli.options import Defines, Walk
 from gaitgram.cli.selection import SelectionError, select_gait
 from gaitgram.ge import CodonMode
@@ -85,8 +85,7 @@ def command(
         finally:
             evaluator.close()
     except (SelectionError, PipelineError) as error:
-        err.print(f"error: {error}", style="bold red", markup=False)
-        raise typer.Exit(2) from None
+        raise fail(str(error)) from None
     evaluation = scored.evaluation
     reproduced = chosen.recorded is None or chosen.recorded == evaluation
     if as_json:
@@ -120,14 +119,11 @@ def command(
             out.print(evaluation.detail, markup=False)
     if not reproduced:
         assert chosen.recorded is not None
-        err.print(
-            f"error: re-scoring gives fitness {evaluation.fitness!r} ({evaluation.status}), but the run "
+        raise fail(
+            f"re-scoring gives fitness {evaluation.fitness!r} ({evaluation.status}), but the run "
             f"recorded {chosen.recorded.fitness!r} ({chosen.recorded.status}): the backend is not "
-            "deterministic, or the run was altered",
-            style="bold red",
-            markup=False,
+            "deterministic, or the run was altered"
         )
-        raise typer.Exit(2)
     if not evaluation.status.viable:
         raise typer.Exit(1)
 

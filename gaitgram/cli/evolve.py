@@ -14,7 +14,7 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
 from gaitgram.backends.api import Evaluator
-from gaitgram.cli.common import check_output, err, load_usable
+from gaitgram.cli.common import check_output, err, fail, load_usable
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint
 from gaitgram.evolution.config import ConfigError, RunConfig, load_config, with_overrides
@@ -31,11 +31,6 @@ from gaitgram.strategies.registry import load_strategy, run_pipeline
 
 #: What makes a run refused before it starts (exit 2).
 _INPUT_ERRORS = (ConfigError, PipelineError, RunDirectoryError, CheckpointError, TransferError)
-
-
-def fail(message: str, code: int = 2) -> typer.Exit:
-    err.print(f"error: {message}", style="bold red", markup=False, highlight=False)
-    return typer.Exit(code)
 
 
 def command(

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from gaitgram import fileio
-from gaitgram.cli.common import check_output, err, write_all_or_exit
+from gaitgram.cli.common import check_output, err, fail, write_all_or_exit
 from gaitgram.cli.options import Defines, Walk
 from gaitgram.cli.selection import SelectedGait, SelectionError, select_gait
 from gaitgram.extras import MissingExtra
@@ -26,11 +26,6 @@ if TYPE_CHECKING:
 
 #: ``--compare seed``: the bundled walk seed rather than a run directory.
 SEED = "seed"
-
-
-def fail(message: str, code: int = 2) -> typer.Exit:
-    err.print(f"error: {message}", style="bold red", markup=False)
-    return typer.Exit(code)
 
 
 def command(

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from gaitgram.cli.common import check_output, err, require_extra
+from gaitgram.cli.common import check_output, err, fail, require_extra
 from gaitgram.study.gallery import GalleryError
 from gaitgram.study.records import ReportError
 from gaitgram.study.report import make_report
@@ -61,11 +61,9 @@ def command(
     try:
         written = make_report(directories, out, force=force, gaits=gaits, chosen=chosen)
     except (ReportError, GalleryError) as error:
-        err.print(f"error: {error}", style="bold red")
-        raise typer.Exit(2) from None
+        raise fail(str(error)) from None
     except OSError as error:
-        err.print(f"error: cannot write the report in {out}: {error.strerror or error}", style="bold red")
-        raise typer.Exit(2) from None
+        raise fail(f"cannot write the report in {out}: {error.strerror or error}") from None
     typer.echo((out / "summary.md").read_text(encoding="utf-8"), nl=False)
     err.print("wrote " + ", ".join(str(p) for p in written))
 

@@ -12,7 +12,7 @@ from rich.table import Table
 
 from gaitgram import jsonio
 from gaitgram.backends.api import Evaluation, Verdict
-from gaitgram.cli.common import err
+from gaitgram.cli.common import fail
 from gaitgram.cli.options import Walk
 from gaitgram.cli.selection import SelectionError, select_gait
 from gaitgram.evolution.retarget import RetargetError, retarget
@@ -57,8 +57,7 @@ def command(
         scalings = scaling or list(chosen.pipeline.spec.retarget_scalings) or ["froude"]
         played = [retarget(chosen.pipeline, [chosen.genome], chosen.generation, to, s) for s in scalings]
     except (SelectionError, PipelineError, RetargetError) as error:
-        err.print(f"error: {error}", style="bold red", markup=False)
-        raise typer.Exit(2) from None
+        raise fail(str(error)) from None
     evolved = played[0].evolved_frequencies[0]
     rows = [("as evolved", evolved, chosen.recorded)] if chosen.recorded is not None else []
     rows += [(p.scaling, p.frequencies[0], p.individuals[0].evaluation) for p in played]

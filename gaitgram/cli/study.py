@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
-from gaitgram.cli.common import check_output, err
+from gaitgram.cli.common import check_output, err, fail
 from gaitgram.evolution.distributed import ClusterError, DaskCluster, connect
 from gaitgram.evolution.session import stop_on_interrupt
 from gaitgram.extras import MissingExtra
@@ -24,11 +24,6 @@ from gaitgram.study.runner import (
     run_study,
 )
 from gaitgram.study.spec import ScaleDown, load_study
-
-
-def fail(message: str, code: int = 2) -> typer.Exit:
-    err.print(f"error: {message}", style="bold red", markup=False)
-    return typer.Exit(code)
 
 
 def command(
