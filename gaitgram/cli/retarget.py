@@ -43,17 +43,7 @@ def command(
     """Play a run's best gait on another body: the same joint curves, scored by that body's
     fitness and checked over its horizon. Exit 1 if it is viable under no scaling."""
     try:
-        chosen = select_gait(
-            run=run,
-            grammar=None,
-            genome=None,
-            genome_file=None,
-            generation=None,
-            config=None,
-            overrides={},
-            defines=None,
-            walk=walk,
-        )
+        chosen = select_gait(run=run, walk=walk)
         scalings = scaling or list(chosen.pipeline.spec.retarget_scalings) or ["froude"]
         played = [retarget(chosen.pipeline, [chosen.genome], chosen.generation, to, s) for s in scalings]
     except (SelectionError, PipelineError, RetargetError) as error:
