@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 from pathlib import Path
 from typing import Annotated
@@ -11,35 +12,63 @@ import typer
 from gaitgram.cli.common import check_output, err, fail, require_extra
 from gaitgram.study.gallery import GalleryError
 from gaitgram.study.records import ReportError
-from gaitgram.study.report import make_report
+from gaitgram.study.report import make_report, watch_report
+
+_Directories = Annotated[
+    list[Path],
+    typer.Argument(
+        help="Study directories of `gaitgram study`, or run directories of `gaitgram evolve` (each one arm).",
+        show_default=False,
+    ),
+]
+_Out = Annotated[Path, typer.Option("--out", "-o", help="Where to write the report.")]
+_Force = Annotated[bool, typer.Option("--force", help="Overwrite an existing report.")]
+_Gaits = Annotated[
+    int,
+    typer.Option(
+        min=0,
+        help="Animate each arm's best walk, and this many gaits per nsga2 or map-elites arm: "
+        "trade-offs spread along the front, repertoire cells spread along the first descriptor "
+        "(mujoco-horse; slow).",
+    ),
+]
+_Assess = Annotated[
+    bool,
+    typer.Option(
+        "--assess",
+        help="First measure each run's best gait beside the real walks and under disturbances "
+        "where not yet measured (mujoco-horse; simulation, kept in run-NNN/assessment.json of the "
+        "run directories; reports read it from there).",
+    ),
+]
+_Watch = Annotated[
+    bool,
+    typer.Option(
+        "--watch",
+        help="Follow a study still running: report the runs finished so far, again each time "
+        "another finishes, until all have (report.html reloads itself meanwhile); Ctrl-C stops.",
+    ),
+]
+_Interval = Annotated[
+    float, typer.Option(min=1.0, help="With --watch: seconds between looks for newly finished runs.")
+]
+_Cell = Annotated[
+    list[str] | None,
+    typer.Option(
+        metavar="I,J", help="Animate the best gait of this repertoire cell (repeatable; see archive-*.png)."
+    ),
+]
 
 
 def command(
-    directories: Annotated[
-        list[Path],
-        typer.Argument(
-            help="Study directories of `gaitgram study`, or run directories of `gaitgram evolve` "
-            "(each one arm).",
-            show_default=False,
-        ),
-    ],
-    out: Annotated[Path, typer.Option("--out", "-o", help="Where to write the report.")] = Path("report"),
-    force: Annotated[bool, typer.Option("--force", help="Overwrite an existing report.")] = False,
-    gaits: Annotated[
-        int,
-        typer.Option(
-            min=0,
-            help="Animate this many gaits per nsga2 or map-elites arm: trade-offs spread along the "
-            "front, repertoire cells spread along the first descriptor (mujoco-horse; slow).",
-        ),
-    ] = 0,
-    cell: Annotated[
-        list[str] | None,
-        typer.Option(
-            metavar="I,J",
-            help="Animate the best gait of this repertoire cell (repeatable; see archive-*.png).",
-        ),
-    ] = None,
+    directories: _Directories,
+    out: _Out = Path("report"),
+    force: _Force = False,
+    gaits: _Gaits = 0,
+    assess: _Assess = False,
+    watch: _Watch = False,
+    interval: _Interval = 30.0,
+    cell: _Cell = None,
 ) -> None:
     """Tables, statistics and figures over runs, like the paper's and more.
 
@@ -49,7 +78,10 @@ def command(
     convergence figures with confidence bands. Writes summary.md (also printed), summary.csv,
     summary.json, tables.tex, convergence.png and convergence.svg; front-ARM.png (Pareto fronts,
     objectives pairwise) for nsga2 arms and archive-ARM.png (the repertoire as heat maps) for
-    map-elites arms; with --gaits or --cell, GIFs of chosen gaits (docs/strategies.md).
+    map-elites arms; for mujoco-horse arms, the realism and robustness sections, measured by
+    --assess (docs/fitness.md); with --gaits or --cell, GIFs of chosen gaits (docs/strategies.md);
+    and report.html, all of it in one page that opens from a file (docs/study.md). With --watch,
+    a study still running is reported over its finished runs, again as more finish.
     """
     require_extra("matplotlib", "reports")
     require_extra("scipy", "reports")
@@ -58,8 +90,11 @@ def command(
         os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is imported
         require_extra("PIL", "animations")
     check_output(out, force=False, directory=True, parents=True, flag="-o")  # before reading the runs
+    report = functools.partial(watch_report, interval=interval) if watch else make_report
     try:
-        written = make_report(directories, out, force=force, gaits=gaits, chosen=chosen)
+        written = report(
+            directories, out, force=force, gaits=gaits, chosen=chosen, assess=assess, progress=err.print
+        )
     except (ReportError, GalleryError) as error:
         raise fail(str(error)) from None
     except OSError as error:

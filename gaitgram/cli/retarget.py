@@ -14,8 +14,9 @@ from gaitgram import jsonio
 from gaitgram.backends.api import Evaluation, Verdict
 from gaitgram.cli.common import fail
 from gaitgram.cli.options import Walk
-from gaitgram.cli.selection import SelectionError, select_gait
-from gaitgram.evolution.retarget import RetargetError, retarget
+from gaitgram.cli.selection import SelectedGait, SelectionError, select_gait
+from gaitgram.evolution.retarget import Retargeted, RetargetError, RunBest, retarget, retarget_runs
+from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
 from gaitgram.pipeline import PipelineError
 
 #: The measures shown for each playing, where the backend reports them.
@@ -38,16 +39,42 @@ def command(
         ),
     ] = None,
     walk: Walk = False,
+    each_run: Annotated[
+        bool,
+        typer.Option(
+            "--each-run",
+            help="Play every finished run's best (a study arm's results), not the best of all.",
+        ),
+    ] = False,
     as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
 ) -> None:
     """Play a run's best gait on another body: the same joint curves, scored by that body's
     fitness and checked over its horizon. Exit 1 if it is viable under no scaling."""
+    if each_run and walk:
+        raise fail("--each-run plays each run's best gait; drop --walk or --each-run")
     try:
-        chosen = select_gait(run=run, walk=walk)
-        scalings = scaling or list(chosen.pipeline.spec.retarget_scalings) or ["froude"]
-        played = [retarget(chosen.pipeline, [chosen.genome], chosen.generation, to, s) for s in scalings]
-    except (SelectionError, PipelineError, RetargetError) as error:
+        if each_run:
+            directory = RunDirectory.open(run)
+            scalings = scaling or list(directory.pipeline.spec.retarget_scalings)
+            results = retarget_runs(directory, to, scalings)
+            verdict = directory.pipeline.spec.verdict
+        else:
+            chosen = select_gait(run=run, walk=walk)
+            scalings = scaling or list(chosen.pipeline.spec.retarget_scalings) or ["froude"]
+            played = [retarget(chosen.pipeline, [chosen.genome], chosen.generation, to, s) for s in scalings]
+    except (SelectionError, PipelineError, RetargetError, RunDirectoryError) as error:
         raise fail(str(error)) from None
+    if each_run:
+        _show_runs(run, to, results, verdict, as_json)
+        viable = any(e.status.viable for r in results for _, _, e in r.played)
+    else:
+        _show_best(run, to, chosen, played, as_json)
+        viable = any(p.individuals[0].evaluation.status.viable for p in played)
+    if not viable:
+        raise typer.Exit(1)
+
+
+def _show_best(run: Path, to: str, chosen: SelectedGait, played: list[Retargeted], as_json: bool) -> None:
     evolved = played[0].evolved_frequencies[0]
     rows = [("as evolved", evolved, chosen.recorded)] if chosen.recorded is not None else []
     rows += [(p.scaling, p.frequencies[0], p.individuals[0].evaluation) for p in played]
@@ -62,21 +89,54 @@ def command(
             ],
         }
         typer.echo(jsonio.dumps(record))
-    else:
-        title = f"{chosen.describe}, on {to}"
-        out = Console(highlight=False, markup=False)
-        verdict = chosen.pipeline.spec.verdict
-        out.print(_table(title, rows, verdict))
+        return
+    out = Console(highlight=False, markup=False)
+    verdict = chosen.pipeline.spec.verdict
+    out.print(_table(f"{chosen.describe}, on {to}", rows, verdict))
+    for name, _, evaluation in rows:
+        _explain(out, name, evaluation, verdict)
+
+
+def _show_runs(run: Path, to: str, results: list[RunBest], verdict: Verdict | None, as_json: bool) -> None:
+    if as_json:
+        record = {
+            "run": str(run),
+            "body": to,
+            "runs": [
+                {
+                    "run": r.run,
+                    "generation": r.generation,
+                    "genome": list(r.genome),
+                    "played": [
+                        {"playing": "as evolved", "frequency": r.evolved_frequency, **r.recorded.as_record()}
+                    ]
+                    + [{"playing": s, "frequency": hz, **e.as_record()} for s, hz, e in r.played],
+                }
+                for r in results
+            ],
+        }
+        typer.echo(jsonio.dumps(record))
+        return
+    out = Console(highlight=False, markup=False)
+    for r in results:
+        rows = [("as evolved", r.evolved_frequency, r.recorded), *r.played]
+        out.print(_table(f"{run} run {r.run}, best, generation {r.generation}, on {to}", rows, verdict))
         for name, _, evaluation in rows:
-            if verdict is not None and evaluation.status.viable and not verdict.holds(evaluation):
-                missing = ", ".join(
-                    t.removeprefix(f"{verdict.component}_") for t in verdict.failed_terms(evaluation)
-                )
-                out.print(f"{name}: not a {verdict.label}: {missing}")
-            elif evaluation.detail:
-                out.print(f"{name}: {evaluation.detail}")
-    if not any(p.individuals[0].evaluation.status.viable for p in played):
-        raise typer.Exit(1)
+            _explain(out, name, evaluation, verdict)
+    if verdict is not None:
+        for index, (name, _, _) in enumerate(results[0].played):
+            held = sum(
+                verdict.holds(r.played[index][2]) and r.played[index][2].status.viable for r in results
+            )
+            out.print(f"{name}: {held} of {len(results)} runs' bests are a {verdict.label} on {to}")
+
+
+def _explain(out: Console, name: str, evaluation: Evaluation, verdict: Verdict | None) -> None:
+    if verdict is not None and evaluation.status.viable and not verdict.holds(evaluation):
+        missing = ", ".join(t.removeprefix(f"{verdict.component}_") for t in verdict.failed_terms(evaluation))
+        out.print(f"{name}: not a {verdict.label}: {missing}")
+    elif evaluation.detail:
+        out.print(f"{name}: {evaluation.detail}")
 
 
 def _table(title: str, rows: list[tuple[str, float | None, Evaluation]], verdict: Verdict | None) -> Table:

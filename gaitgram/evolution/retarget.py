@@ -13,7 +13,8 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
-from gaitgram.backends.api import SettingsError
+from gaitgram.backends.api import Evaluation, SettingsError
+from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, finished_bests
 from gaitgram.motion.gait import MotionBatch
 from gaitgram.pipeline import Individual, Pipeline, PipelineError
 
@@ -79,3 +80,40 @@ def _hertz(motion: MotionBatch, count: int) -> tuple[float | None, ...]:
     if motion.frequencies is None:
         return (None,) * count
     return tuple(None if math.isnan(f) else float(f) for f in motion.frequencies)
+
+
+@dataclass(frozen=True)
+class RunBest:
+    """A finished run's best gait as recorded, and as played on another body under each scaling."""
+
+    run: int
+    generation: int
+    genome: tuple[int, ...]
+    evolved_frequency: float | None  # Hz, None where the gait was played at its body's target
+    recorded: Evaluation
+    played: tuple[tuple[str, float | None, Evaluation], ...]  # (scaling, Hz or None, evaluation)
+
+
+def retarget_runs(directory: RunDirectory, body: str, scalings: Sequence[str]) -> list[RunBest]:
+    """Every finished run's best gait of ``directory`` played on ``body`` under each of ``scalings``
+    (the runs' bests played together, one batch per scaling); raises :class:`RetargetError`."""
+    try:
+        bests = finished_bests(directory)
+    except RunDirectoryError as error:
+        raise RetargetError(str(error)) from None
+    if not bests:
+        raise RetargetError(f"{directory.path} has no finished run yet: retarget its results once it has")
+    genomes = [tuple(best.genome) for _, _, best in bests]
+    generation = bests[0][1]
+    played = [retarget(directory.pipeline, genomes, generation, body, scaling) for scaling in scalings]
+    return [
+        RunBest(
+            run,
+            at,
+            genomes[i],
+            played[0].evolved_frequencies[i] if played else None,
+            best.evaluation,
+            tuple((p.scaling, p.frequencies[i], p.individuals[i].evaluation) for p in played),
+        )
+        for i, (run, at, best) in enumerate(bests)
+    ]

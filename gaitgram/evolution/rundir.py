@@ -461,6 +461,13 @@ def best_of_runs(directory: RunDirectory) -> tuple[int, int, Individual]:
     return run, generation, best
 
 
+def finished_bests(directory: RunDirectory) -> list[tuple[int, int, Individual]]:
+    """The best individual of each run that has finished: (run, generation, individual), by run;
+    a run still under way is left out, so its best is not mistaken for a result."""
+    last = directory.config.generations
+    return [(run, s.generation, s.best) for run, s in _last_states(directory) if s.generation == last]
+
+
 def _last_states(directory: RunDirectory) -> Iterator[tuple[int, RunState]]:
     """Each run's last checkpoint (runs with none yet are skipped), without strategy memory."""
     for run, path in enumerate(directory.checkpoints):

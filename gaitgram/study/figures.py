@@ -2,10 +2,10 @@
 
 One drawer per kind of figure data, registered with :func:`draw`: convergence
 (the paper's Figures 3, 4 and 6 with confidence bands), Pareto fronts
-(objectives pairwise) and repertoires (heat maps). A new kind of figure (a
-section's) registers its own drawer. Figures need matplotlib (the ``plot``
-extra), imported when one is drawn; the same data give the same files, byte
-for byte (no dates in them, fixed SVG ids).
+(objectives pairwise), repertoires (heat maps) and gaits' curves beside the
+real walks'. A new kind of figure (a section's) registers its own drawer.
+Figures need matplotlib (the ``plot`` extra), imported when one is drawn; the
+same data give the same files, byte for byte (no dates in them, fixed SVG ids).
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from gaitgram.study.kept_gaits import CURVE_TITLES, CURVES, RealismCurves, real_walks
 from gaitgram.study.model import Convergence, Fronts, RepertoireMap
 
 if TYPE_CHECKING:
@@ -156,3 +157,36 @@ def _rectangle(corner: tuple[float, float], width: float, height: float, label: 
     from matplotlib.patches import Rectangle
 
     return Rectangle(corner, width, height, fill=False, edgecolor="red", linewidth=1.5, label=label)
+
+
+@draw.register(RealismCurves)
+def realism_figure(data: RealismCurves) -> Figure:
+    """The fetlock and protraction curves of the arms' best gaits over one stride, from the hoof's
+    footfall, each arm in its colour, on the real walks' mean and SD (grey)."""
+    from matplotlib.figure import Figure
+
+    real = real_walks()["curves"]
+    figure = Figure(figsize=(11, 7), layout="constrained")
+    panels = figure.subplots(2, 2, sharex=True).ravel()
+    for panel, name in zip(panels, CURVES, strict=True):
+        mean, sd = np.array(real[name]["mean"]), np.array(real[name]["sd"])
+        phase = np.arange(len(mean)) / len(mean)
+        panel.fill_between(phase, mean - sd, mean + sd, color="0.8", linewidth=0, label="real walks: SD")
+        panel.plot(phase, mean, color="0.4", linestyle="--", label="real walks: mean")
+        for arm in data.arms:
+            colour = f"C{arm.colour % 10}"
+            for other in arm.others:
+                curve = other[name]
+                panel.plot(np.arange(len(curve)) / len(curve), curve, color=colour, alpha=0.3, linewidth=0.8)
+            if arm.best is not None:
+                curve = arm.best[name]
+                panel.plot(
+                    np.arange(len(curve)) / len(curve), curve, color=colour, linewidth=2, label=arm.arm
+                )
+        panel.set_title(CURVE_TITLES[name], fontsize="medium")
+        panel.grid(alpha=0.3)
+    for panel in panels[2:]:
+        panel.set_xlabel("share of the stride, from the hoof's footfall")
+    panels[0].legend(fontsize="small")
+    figure.suptitle(data.title)
+    return figure

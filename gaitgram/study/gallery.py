@@ -1,4 +1,4 @@
-"""Animated gaits for a report: trade-offs along a front, repertoire cells.
+"""Animated gaits for a report: each arm's best walk, trade-offs along a front, repertoire cells.
 
 Which gaits (:func:`gaits_section`) is data, decided before anything is
 written: a cell no run filled is refused then. Each gait is drawn through its
@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
+from gaitgram.evolution.rundir import KeptGait, RunDirectory, RunDirectoryError, best_walk_of_runs
 from gaitgram.pipeline import PipelineError
 from gaitgram.strategies.kept import Front, Repertoire
 from gaitgram.study.model import Figure, Gait, Section, figure_name
@@ -64,10 +64,15 @@ def gaits_section(
     *,
     gaits: int,
 ) -> Section | None:
-    """The GIFs a report makes: ``gaits`` trade-offs spread along each front (run 0's); the best
-    gaits of the ``cells`` of each repertoire. A cell no run filled is a :class:`ReportError`."""
+    """The GIFs a report makes: with ``gaits``, each arm's best walk (mujoco-horse arms that hand
+    back one) and ``gaits`` trade-offs spread along each front (run 0's); the best gaits of the
+    ``cells`` of each repertoire. A cell no run filled is a :class:`ReportError`."""
     figures: list[Figure] = []
     for arm in arms:
+        walk = best_walk(arm) if gaits else None
+        if walk is not None:
+            caption = f"{arm.name}: its best walk (run {walk.run}, fitness {walk.evaluation.fitness:.4g})"
+            figures.append(_gif(figure_name("walk", arm.name, ""), caption, arm, walk.genome))
         found = fronts[arm.name]
         if found and gaits:
             members = trade_offs(found[0], gaits)
@@ -93,6 +98,25 @@ def gaits_section(
     if not figures:
         return None
     return Section("gaits", "Gaits", "animated, as scored", figures=tuple(figures))
+
+
+def best_walk(arm: ArmRecord) -> KeptGait | None:
+    """The best walk any run of a mujoco-horse arm hands back; None if the arm is drawn on another
+    backend, its backend judges no walks, or no run hands one back."""
+    if arm.walk_held_rate == 0:
+        return None
+    try:
+        directory = RunDirectory.open(arm.path)
+    except RunDirectoryError as error:
+        raise ReportError(str(error)) from None
+    if directory.pipeline.backend != DRAWN_ON or directory.pipeline.spec.verdict is None:
+        return None
+    try:
+        return best_walk_of_runs(directory)
+    except RunDirectoryError as error:
+        if arm.walk_held_rate is None:  # the records did not say; the checkpoints say there is none
+            return None
+        raise ReportError(str(error)) from None
 
 
 def render_gaits(

@@ -59,6 +59,15 @@ class ArmRecord:
     #: What scored the runs: the backend and its version (its fitness revision), from the manifest.
     backend: str = ""
     backend_version: str = ""
+    #: Each run's number (its ``run-NNN`` directory), where only finished runs were read (a study
+    #: still running); empty: the runs are 0, 1, ... in order.
+    run_numbers: tuple[int, ...] = ()
+    planned_runs: int = 0  # the runs the arm will have (0: as many as it has)
+
+    @property
+    def numbers(self) -> tuple[int, ...]:
+        """Each run's number, in the order of :attr:`runs`."""
+        return self.run_numbers or tuple(range(len(self.runs)))
 
     @property
     def final_best(self) -> np.ndarray:
@@ -98,13 +107,15 @@ def load_arm(
     strategy: str | None = None,
     *,
     redo: str = "",
+    finished_only: bool = False,
 ) -> ArmRecord:
     """An arm from a finished run directory; refuses unfinished, unreadable or damaged runs.
 
     Every file is untrusted input: the configuration is checked key by key (and against the
     manifest's digest, when there is one), every line of each run's ``stats.jsonl`` and its
     ``best.json`` field by field. ``redo`` is the command that rewrites a run's records from
-    its checkpoint (default: ``gaitgram evolve --resume`` of the arm).
+    its checkpoint (default: ``gaitgram evolve --resume`` of the arm). With ``finished_only``, runs
+    still running (or not started) are left out instead of refused.
     """
     if not (path / CONFIG).is_file() and not (path / MANIFEST).is_file():
         raise ReportError(f"{path}: not a `gaitgram evolve` run directory (it has no {CONFIG})")
@@ -114,7 +125,12 @@ def load_arm(
     except RunDirectoryError as error:
         raise ReportError(str(error)) from None
     redo = redo or f"gaitgram evolve --resume {path}"
-    runs = tuple(_load_run(path / f"run-{run:03d}", config.generations, redo) for run in range(config.runs))
+    numbers = [
+        run
+        for run in range(config.runs)
+        if not (finished_only and _running(path / f"run-{run:03d}", config.generations))
+    ]
+    runs = tuple(_load_run(path / f"run-{run:03d}", config.generations, redo) for run in numbers)
     # What scored the runs (a directory without a manifest, hand-made or of gaitgram 0.1, cannot say).
     backend, version = (manifest["backend"], manifest["backend_version"]) if manifest else ("", "")
     return ArmRecord(
@@ -127,7 +143,18 @@ def load_arm(
         runs,
         backend,
         version,
+        tuple(numbers) if finished_only else (),
+        config.runs,
     )
+
+
+def _running(path: Path, generations: int) -> bool:
+    """A run not finished yet: not started, or fewer generations recorded than it will have."""
+    try:
+        lines = path.joinpath("stats.jsonl").read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError):
+        return True
+    return sum(bool(line.strip()) for line in lines) < generations + 1 or not (path / "best.json").exists()
 
 
 def _load_run(path: Path, generations: int, redo: str) -> RunRecord:
@@ -258,7 +285,7 @@ def load_study_arms(directory: Path) -> list[ArmRecord]:
     return _study_arms(directory)[0]
 
 
-def _study_arms(directory: Path) -> tuple[list[ArmRecord], str]:
+def _study_arms(directory: Path, finished_only: bool = False) -> tuple[list[ArmRecord], str]:
     """The arms of a study directory, in the study's order, and its title."""
     try:
         manifest = read_study_manifest(directory)
@@ -270,25 +297,31 @@ def _study_arms(directory: Path) -> tuple[list[ArmRecord], str]:
         return f"gaitgram study {manifest.study_file} -o {directory} (or gaitgram evolve --resume {path})"
 
     arms = [
-        load_arm(directory / "arms" / a.name, a.name, a.strategy, redo=redo(a.name)) for a in manifest.arms
+        load_arm(
+            directory / "arms" / a.name, a.name, a.strategy, redo=redo(a.name), finished_only=finished_only
+        )
+        for a in manifest.arms
     ]
     return arms, manifest.title
 
 
-def load_arms(directories: Sequence[Path]) -> tuple[list[ArmRecord], str]:
+def load_arms(directories: Sequence[Path], *, finished_only: bool = False) -> tuple[list[ArmRecord], str]:
     """The arms of study directories (each gives its arms) and run directories of ``gaitgram
     evolve`` (each one arm), and the studies' titles. A run directory given twice, under any
     spelling (a symlink, ``..``, a study and one of its arms), is refused: it would be compared
-    with itself. Two arms of the same name are named by their paths."""
+    with itself. Two arms of the same name are named by their paths. With ``finished_only`` (a
+    study still running), only finished runs are read, and arms with none yet are left out."""
     arms: list[ArmRecord] = []
     titles = []
     for directory in directories:
         if (directory / STUDY_MANIFEST).is_file():
-            found, title = _study_arms(directory)
+            found, title = _study_arms(directory, finished_only)
             arms += found
             titles.append(title)
         else:
-            arms.append(load_arm(directory))
+            arms.append(load_arm(directory, finished_only=finished_only))
+    if finished_only:
+        arms = [a for a in arms if a.runs]
     _refuse_duplicates(arms)
     names = [a.name for a in arms]
     if len(set(names)) != len(names):

@@ -13,31 +13,43 @@ The report is made in stages, each its own module:
 - :mod:`~gaitgram.study.model` makes the report as data: summaries, rank tests and
   sections of tables and figures;
 - :mod:`~gaitgram.study.formats` (Markdown, CSV, LaTeX, JSON),
-  :mod:`~gaitgram.study.figures` and :mod:`~gaitgram.study.gallery` (GIFs)
-  draw it;
+  :mod:`~gaitgram.study.html`, :mod:`~gaitgram.study.figures` and
+  :mod:`~gaitgram.study.gallery` (GIFs) draw it;
 - this module writes it, whole or not at all.
 
 Written files: ``summary.md``, ``summary.csv``, ``tables.tex``,
 ``summary.json``, ``convergence.png`` and ``convergence.svg``; for an arm whose
 runs keep a Pareto front (``nsga2``) ``front-ARM.png``, the fronts' objectives
 pairwise, and for one whose runs keep a repertoire (``map-elites``)
-``archive-ARM.png``, its cells as heat maps; on request, GIFs of trade-off
-gaits and of repertoire cells.
+``archive-ARM.png``, its cells as heat maps; for ``mujoco-horse`` arms the
+realism and robustness sections (``realism-*.csv``, ``robustness-*.csv``,
+``realism.png`` and ``realism.svg``), read from the assessments ``make_report(...,
+assess=True)`` (``gaitgram report --assess``) keeps in the run directories; on
+request, GIFs of each arm's best walk (beside it ``curves-ARM.png``, its gaits on
+the real walks' band), of trade-off gaits and of repertoire cells; last,
+``report.html``, all of it in one page.
 """
 
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Sequence
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 
 from gaitgram.fileio import OutputError, check_output, write_atomically
 from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts, load_repertoire
+from gaitgram.study.assess import MEASURED_ON, assess_arms
 from gaitgram.study.figures import draw, rendered
 from gaitgram.study.formats import text_files
 from gaitgram.study.gallery import gaits_section, render_gaits, spread_cells
-from gaitgram.study.model import Gait, StudyReport, build_report, fronts_section
+from gaitgram.study.html import html
+from gaitgram.study.kept_gaits import arm_curves_figure, load_assessed, realism_section, robustness_section
+from gaitgram.study.model import Gait, Section, StudyReport, build_report, figure_name, fronts_section
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable, load_arms
+
+HTML = "report.html"
 
 
 def study_report(
@@ -49,18 +61,36 @@ def study_report(
 ) -> StudyReport:
     """The report of ``arms``, with the sections their strategies call for; ``chosen`` cells (or
     ``gaits`` cells spread over each repertoire) are animated and outlined on its heat map, and
-    ``gaits`` trade-offs of each front are animated."""
+    with ``gaits`` each arm's best walk and ``gaits`` trade-offs of each front are animated."""
     fronts, repertoires = kept_sets(arms)
     cells = {
         name: list(chosen) or spread_cells(repertoire, gaits)
         for name, repertoire in repertoires.items()
         if repertoire is not None
     }
+    assessed = [found for found in map(load_assessed, arms) if found is not None]
+    gallery = gaits_section(arms, fronts, repertoires, cells, gaits=gaits)
     sections = (
         fronts_section(arms, fronts, repertoires, cells),
-        gaits_section(arms, fronts, repertoires, cells, gaits=gaits),
+        realism_section(arms, assessed),
+        robustness_section(arms, assessed),
+        gallery and _beside_the_real_walks(gallery, arms, assessed),
     )
     return build_report(arms, title=title, sections=[s for s in sections if s is not None])
+
+
+def _beside_the_real_walks(gallery: Section, arms: Sequence[ArmRecord], assessed: Sequence) -> Section:
+    """The gallery with each arm's curves (its runs' best gaits on the real walks' band) after its
+    animated best walk, where its gaits were measured."""
+    walks = {figure_name("walk", a.arm, ""): a for a in assessed}
+    figures = []
+    for figure in gallery.figures:
+        figures.append(figure)
+        if figure.name in walks and isinstance(figure.data, Gait):
+            beside = arm_curves_figure(arms, walks[figure.name], figure.data.genome)
+            if beside is not None:
+                figures.append(beside)
+    return replace(gallery, figures=tuple(figures))
 
 
 def kept_sets(arms: Sequence[ArmRecord]) -> tuple[dict[str, list[Front]], dict[str, Repertoire | None]]:
@@ -74,7 +104,7 @@ def kept_sets(arms: Sequence[ArmRecord]) -> tuple[dict[str, list[Front]], dict[s
 def report_files(report: StudyReport, out: Path) -> list[Path]:
     """Every file :func:`write_report` writes, in order."""
     figures = [name for figure in report.figures for name in figure.files]
-    return [out / name for name in [*text_files(report), *figures]]
+    return [out / name for name in [*text_files(report), *figures, HTML]]
 
 
 def write_report(
@@ -82,11 +112,13 @@ def write_report(
     out: Path,
     *,
     force: bool = False,
+    refresh: float | None = None,
 ) -> list[Path]:
-    """The whole report, tables, figures and GIFs, or none of it: every file is checked first (an
-    existing one needs ``force``), and if anything fails (a GIF that cannot be rendered, a full
-    disk, Ctrl-C) the files and directories made so far are removed again. Each file is replaced
-    at once: a reader never sees half of one."""
+    """The whole report, tables, figures, GIFs and page (reloading itself every ``refresh``
+    seconds, for a study still running), or none of it: every file is checked first
+    (an existing one needs ``force``), and if anything fails (a GIF that cannot be rendered, a
+    full disk, Ctrl-C) the files and directories made so far are removed again. Each file is
+    replaced at once: a reader never sees half of one."""
     planned = report_files(report, out)
     try:
         for path in planned:
@@ -99,7 +131,8 @@ def write_report(
         out.mkdir(parents=True, exist_ok=True)
         for name, text in text_files(report).items():
             write_atomically(out / name, text)
-        _draw_figures(report, out)
+        images = _draw_figures(report, out)
+        write_atomically(out / HTML, html(report, images, refresh=refresh))
         return planned
     except BaseException:
         for path in new:
@@ -112,7 +145,7 @@ def write_report(
 
 def _draw_figures(report: StudyReport, out: Path) -> dict[str, bytes]:
     """Each figure's files written (plots first, then the GIFs, one evaluator per run directory);
-    returns them by name."""
+    returns them by name, for the page."""
     images: dict[str, bytes] = {}
     animated: dict[Path, list[tuple[Gait, Path]]] = {}
     for figure in report.figures:
@@ -137,10 +170,99 @@ def make_report(
     force: bool = False,
     gaits: int = 0,
     chosen: Sequence[tuple[int, ...]] = (),
+    assess: bool = False,
+    progress: Callable[[str], None] | None = None,
 ) -> list[Path]:
     """``gaitgram report``: the report of study or run directories whose runs have all finished,
-    written to ``out``; the files written."""
+    written to ``out``; the files written. With ``assess``, each run's best gait is first measured
+    where its kept assessment is missing or stale (simulation; :mod:`gaitgram.study.assess`)."""
     arms, title = load_arms(directories)
     check_comparable(arms)  # before anything is made
+    if assess:
+        assess_arms([arm.path for arm in arms if arm.backend == MEASURED_ON], progress=progress)
     report = study_report(arms, title=title, gaits=gaits, chosen=chosen)
     return write_report(report, out, force=force)
+
+
+def progress_section(arms: Sequence[ArmRecord], planned: int, interval: float) -> Section | None:
+    """What a page of a study still running says first: how many of the ``planned`` runs have
+    finished; None when all have."""
+    finished = sum(len(a.runs) for a in arms)
+    if finished >= planned:
+        return None
+    per_arm = ", ".join(f"{a.name} {len(a.runs)} of {max(a.planned_runs, len(a.runs))}" for a in arms)
+    return Section(
+        "progress",
+        "Study in progress",
+        f"{finished} of {planned} runs finished",
+        text=(
+            f"Everything below is over the runs finished so far ({per_arm}); arms with none yet are left "
+            f"out. `gaitgram report --watch` makes it again as runs finish, and this page reloads itself "
+            f"every {interval:g} s."
+        ),
+    )
+
+
+def watch_report(
+    directories: Sequence[Path],
+    out: Path,
+    *,
+    interval: float = 30.0,
+    force: bool = False,
+    gaits: int = 0,
+    chosen: Sequence[tuple[int, ...]] = (),
+    assess: bool = False,
+    progress: Callable[[str], None] | None = None,
+    sleep: Callable[[float], None] = time.sleep,
+) -> list[Path]:
+    """``gaitgram report --watch``: the report of the runs finished so far, made again each time
+    another finishes (looked for every ``interval`` seconds), its page reloading itself, until every
+    run has finished: then the report is the one :func:`make_report` writes. The files written
+    last."""
+    seen: tuple[tuple[str, tuple[int, ...]], ...] | None = None
+    written: list[Path] = []
+    while True:
+        arms, title = load_arms(directories, finished_only=True)
+        state = tuple((a.name, a.numbers) for a in arms)
+        planned = _planned(directories)
+        done = sum(len(a.runs) for a in arms) >= planned
+        if arms and state != seen:
+            check_comparable(arms)
+            if assess:
+                assess_arms([arm.path for arm in arms if arm.backend == MEASURED_ON], progress=progress)
+            report = study_report(arms, title=title, gaits=gaits, chosen=chosen)
+            ongoing = None if done else progress_section(arms, planned, interval)
+            if ongoing is not None:
+                report = replace(report, sections=(ongoing, *report.sections))
+            written = write_report(
+                report, out, force=force or seen is not None, refresh=None if done else interval
+            )
+            seen = state
+            if progress:
+                runs = sum(len(a.runs) for a in arms)
+                progress(f"{runs} of {planned} runs finished: wrote {out / HTML}")
+        if done:
+            return written
+        sleep(interval)
+
+
+def _planned(directories: Sequence[Path]) -> int:
+    """How many runs the study or run directories will have when finished."""
+    from gaitgram.evolution.rundir import RunDirectoryError, read_manifest, saved_config
+    from gaitgram.study.manifest import STUDY_MANIFEST, read_study_manifest
+    from gaitgram.study.spec import StudyError
+
+    paths: list[Path] = []
+    for directory in directories:
+        if (directory / STUDY_MANIFEST).is_file():
+            try:
+                manifest = read_study_manifest(directory)
+            except StudyError as error:
+                raise ReportError(str(error)) from None
+            paths += [directory / "arms" / a.name for a in manifest.arms]
+        else:
+            paths.append(directory)
+    try:
+        return sum(saved_config(p, read_manifest(p)).runs for p in paths)
+    except RunDirectoryError as error:
+        raise ReportError(str(error)) from None

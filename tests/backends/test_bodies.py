@@ -186,6 +186,12 @@ def test_retarget_command(horse_run: Path) -> None:
     assert playings["unscaled"]["frequency"] == pytest.approx(evolved)
     ratio = frequency_ratio(None, "shetland")
     assert playings["froude"]["frequency"] == pytest.approx(evolved * ratio, rel=1e-9)
+    each = runner.invoke(
+        app, ["retarget", "--run", str(horse_run), "--to", "shetland", "--each-run", "--json"]
+    )
+    assert each.exit_code == 0, each.output
+    (only,) = json.loads(each.output)["runs"]  # one run, finished
+    assert only["played"] == record["played"]  # the best of one run is that run's best
     table = runner.invoke(app, ["retarget", "--run", str(horse_run), "--to", "draft", "--scaling", "froude"])
     assert table.exit_code == 0, table.output
     assert "froude" in table.output

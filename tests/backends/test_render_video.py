@@ -88,6 +88,32 @@ def test_a_run_beside_the_seed_and_beside_another_run(tmp_path: Path) -> None:
     assert not (tmp_path / "x.gif").exists()
 
 
+def test_a_run_beside_itself_on_a_smaller_body(tmp_path: Path) -> None:
+    """``--compare shetland``: the same gait on the Shetland, Froude-scaled, filmed by its own camera
+    (scaled with the body, so the two are drawn at about one size)."""
+    from PIL import Image
+
+    evolved = gaitgram(
+        "evolve", str(GRAMMAR), "--generations", "1", "--population", "8", "-o", "r", "-q", cwd=tmp_path
+    )
+    assert evolved.returncode == 0, evolved.stderr
+    side = gaitgram(
+        "render", "--run", "r", "--compare", "shetland", "-o", "pony.gif", "--fps", "4", cwd=tmp_path
+    )
+    assert side.returncode == 0, side.stderr
+    assert "on shetland (Froude-scaled)" in side.stderr
+    gif = Image.open(tmp_path / "pony.gif")
+    assert gif.size == (480 + 4 + 480, 360)
+    gif.seek(0)  # standing, before either moves
+    picture = np.asarray(gif.convert("RGB"), dtype=float)
+    left, right = picture[40:, :480], picture[40:, 484:]
+    assert np.abs(left - right).mean() > 2  # two different pictures
+    unknown = gaitgram("render", "--run", "r", "--compare", "shetlnd", "-o", "x.gif", cwd=tmp_path)
+    assert unknown.returncode == 2
+    assert "Traceback" not in unknown.stderr
+    assert not (tmp_path / "x.gif").exists()
+
+
 def test_side_by_side_holds_the_shorter_gaits_last_frame() -> None:
     short = [np.full((6, 4, 3), 10 * i, np.uint8) for i in range(2)]
     long = [np.full((6, 4, 3), 100 + i, np.uint8) for i in range(5)]

@@ -43,3 +43,17 @@ def test_figures_are_drawn_for_the_arms_that_keep_fronts_and_repertoires(report:
         assert (out / name).read_bytes().startswith(b"\x89PNG\r\n\x1a\n"), name
     svg = (out / "convergence.svg").read_text()
     assert all(f"{arm} (3 runs)" in svg for arm in ("alpha", "beta_front", "gamma"))  # the legend
+
+
+def test_assess_measures_nothing_off_the_horse_and_changes_no_file(
+    report: tuple[Path, str], tmp_path: Path
+) -> None:
+    """The hand-made arms are not scored on mujoco-horse: --assess leaves them and the report alone."""
+    out, _ = report
+    study = out.parent / "study"
+    result = runner.invoke(app, ["report", str(study), "-o", str(tmp_path / "assessed"), "--assess"])
+    assert result.exit_code == 0, result.stderr
+    assert not list(study.rglob("*assessment.json"))
+    assert sorted(p.name for p in (tmp_path / "assessed").iterdir()) == sorted(p.name for p in out.iterdir())
+    for name in (*TEXT_FORMATS, "report.html"):
+        assert (tmp_path / "assessed" / name).read_bytes() == (out / name).read_bytes(), name

@@ -1,0 +1,243 @@
+"""Kept gaits measured beyond their scores, once, into the study directory: ``gaitgram report --assess``.
+
+The report's realism and robustness sections (:mod:`gaitgram.study.kept_gaits`) need simulation:
+each run's best gait (its last checkpoint's best, which ``best.json`` records) is played as the
+run scored it and measured beside the DLC_Horse walks
+(:mod:`gaitgram.backends.mujoco_horse.realism`), then played to the horizon under each disturbance
+(:mod:`gaitgram.backends.mujoco_horse.robustness`). That is slow, so it is an explicit step whose
+results are kept in the run directory, ``run-NNN/assessment.json``; a report only reads them, and
+so stays fast and the same, byte for byte, however often it is made.
+
+A kept assessment names the gait (genome, generation, fitness), what scored it (backend and
+version) and :data:`FORMAT`: when any of these no longer matches, the report calls it stale and
+``--assess`` measures the gait again. Only ``mujoco-horse`` runs are measured; runs that have not
+finished are left for later (``gaitgram report --watch`` measures them as they finish).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from gaitgram import jsonio
+from gaitgram.evolution.checkpoint import load_checkpoint
+from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_walk_of_runs, read_manifest
+from gaitgram.fileio import write_atomically
+from gaitgram.study.records import ReportError
+
+#: The file each run directory keeps its best gait's assessment in.
+ASSESSMENT = "assessment.json"
+#: The file an arm's run directory keeps its best walk's assessment in (the walk a report with
+#: ``--gaits`` animates; it may be no run's best gait).
+BEST_WALK = "best-walk-assessment.json"
+#: Raised when what is measured, or how, changes: every kept assessment is then stale.
+FORMAT = 1
+#: The backend whose gaits are measured.
+MEASURED_ON = "mujoco-horse"
+
+
+def assessment_path(arm: Path, run: int) -> Path:
+    return arm / f"run-{run:03d}" / ASSESSMENT
+
+
+def kept_key(record: dict[str, Any]) -> tuple[Any, ...]:
+    """What a kept assessment must match to be current."""
+    return (
+        record.get("format"),
+        record.get("backend_version"),
+        record.get("generation"),
+        record.get("genome"),
+        record.get("fitness"),
+    )
+
+
+def assess_arm(
+    path: Path, *, force: bool = False, progress: Callable[[str], None] | None = None
+) -> list[Path]:
+    """Measure the best gait of each finished run of the run directory ``path`` whose kept
+    assessment is missing, stale or damaged (every one with ``force``); the files written. A run
+    directory of another backend is left alone (nothing written)."""
+    try:
+        directory = RunDirectory.open(path)
+    except RunDirectoryError as error:
+        raise ReportError(str(error)) from None
+    pipeline = directory.pipeline
+    if pipeline.backend != MEASURED_ON:
+        return []
+    manifest = read_manifest(path)
+    version = manifest["backend_version"] if manifest else ""
+    wanted: list[tuple[int, dict[str, Any]]] = []
+    for run, checkpoint in enumerate(directory.checkpoints):
+        if not checkpoint.exists():
+            continue
+        try:
+            state = load_checkpoint(
+                checkpoint, pipeline, fingerprint=directory.fingerprints, run=run, with_memory=False
+            )
+        except (RunDirectoryError, ValueError) as error:
+            raise ReportError(f"{checkpoint}: {error}") from None
+        if state.generation < pipeline.config.generations:
+            continue  # not finished: measured once it is
+        best = state.best
+        record = {
+            "format": FORMAT,
+            "backend": MEASURED_ON,
+            "backend_version": version,
+            "generation": state.generation,
+            "genome": [int(c) for c in best.genome],
+            "fitness": float(best.fitness),
+        }
+        if not force and _kept(assessment_path(path, run), record):
+            continue
+        wanted.append((run, record))
+    walk = _best_walk(directory, version)
+    if walk is not None and (force or not _kept(path / BEST_WALK, walk)):
+        wanted.append((-1, walk))
+    if not wanted:
+        return []
+    if progress:
+        runs = sum(run >= 0 for run, _ in wanted)
+        also = " and its best walk" if wanted[-1][0] < 0 else ""
+        progress(f"measuring the best gaits of {runs} run(s){also} of {path}")
+    batch = pipeline.motion(
+        pipeline.map([tuple(r["genome"]) for _, r in wanted]), pipeline.config.generations
+    )
+    measured = measure(dict(pipeline.config.backend_settings), batch)
+    written = []
+    for (run, record), found in zip(wanted, measured, strict=True):
+        target = assessment_path(path, run) if run >= 0 else path / BEST_WALK
+        write_atomically(target, jsonio.dumps({**record, **found}, indent=1) + "\n")
+        written.append(target)
+    return written
+
+
+def _best_walk(directory: RunDirectory, version: str) -> dict[str, Any] | None:
+    """The record naming the best walk any run hands back (as the report's gallery picks it);
+    None if none does."""
+    if directory.pipeline.spec.verdict is None:
+        return None
+    try:
+        walk = best_walk_of_runs(directory)
+    except RunDirectoryError:
+        return None
+    return {
+        "format": FORMAT,
+        "backend": MEASURED_ON,
+        "backend_version": version,
+        "generation": walk.generation,
+        "genome": [int(c) for c in walk.genome],
+        "fitness": float(walk.evaluation.fitness),
+        "run": walk.run,
+    }
+
+
+def _kept(path: Path, record: dict[str, Any]) -> bool:
+    try:
+        kept = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    return isinstance(kept, dict) and kept_key(kept) == kept_key(record)
+
+
+def measure(settings: dict[str, Any], batch: Any) -> list[dict[str, Any]]:
+    """Each gait of ``batch`` (a :class:`~gaitgram.motion.gait.MotionBatch`) with the run's backend
+    ``settings``: its realism (``None`` where it falls, does not step or cannot be built) and its
+    disturbance trials, as kept in ``assessment.json``."""
+    from gaitgram.backends.mujoco_horse.robustness import DISTURBANCES, disturbed
+
+    playable = [g for g in range(len(batch)) if batch.problems[g] is None]
+    found: list[dict[str, Any]] = [
+        {"gait": "invalid", "detail": batch.details[g], "realism": None, "trials": []}
+        for g in range(len(batch))
+    ]
+    if not playable:
+        return found
+    sub = batch.take(playable)
+    realism = _realism(settings, sub)
+    trials = {d.name: disturbed(settings, sub, d.name) for d in DISTURBANCES}
+    for k, g in enumerate(playable):
+        found[g] = {
+            "gait": "measured" if realism[k] is not None else "falls",
+            "detail": None,
+            "realism": realism[k],
+            "trials": [
+                {
+                    "disturbance": d.name,
+                    "describe": d.describe,
+                    "upright": trials[d.name][k].upright,
+                    "walking": trials[d.name][k].walking,
+                    "detail": trials[d.name][k].detail,
+                }
+                for d in DISTURBANCES
+            ],
+        }
+    return found
+
+
+def _realism(settings: dict[str, Any], batch: Any) -> list[dict[str, Any] | None]:
+    """:func:`~gaitgram.backends.mujoco_horse.realism.assess`, with the window's speed and strides
+    and what Alexander's relations predict at that speed (one simulation)."""
+    from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
+    from gaitgram.backends.mujoco_horse.measures import measure_cycles, window
+    from gaitgram.backends.mujoco_horse.realism import _realism, landmark_curves
+    from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles
+    from gaitgram.backends.mujoco_horse.task import G, duty_factor_for
+
+    evaluator = HorseEvaluator(HorseSettings.from_mapping(settings))
+    try:
+        rows = np.arange(len(batch))
+        control = evaluator.controls(batch, rows)
+        states, sensors = evaluator.simulate(control)
+        frequencies = evaluator.frequencies(batch, rows)
+        verdicts = evaluator.score(states, sensors, control, {"velocity": 1.0}, frequencies)
+        recordings = evaluator.recordings(states, sensors, control, frequencies)
+        targets = evaluator.targets
+        found: list[dict[str, Any] | None] = []
+        for g, (verdict, recording) in enumerate(zip(verdicts, recordings, strict=True)):
+            if not verdict.status.viable:
+                found.append(None)
+                continue
+            warmup = warmup_cycles(evaluator.settings.warmup_seconds, recording.frequency)
+            scored = measure_cycles(recording, warmup, warmup + evaluator.scored, evaluator.gap_steps)
+            start, end = recording.cycle_edges(warmup + evaluator.scored)[[warmup, -1]]
+            curves = landmark_curves(evaluator.model, states[g])
+            realism = _realism(scored, recording, curves, int(start), int(end), evaluator.gap_steps)
+            if realism is None:
+                found.append(None)
+                continue
+            means = window(scored)
+            speed = means.velocity
+            froude = speed / math.sqrt(G * targets.hip_height) if speed > 0 else math.nan
+            length = float(targets.stride_at(speed)) if speed > 0 else math.nan
+            found.append(
+                {
+                    "measures": {
+                        **realism.measures,
+                        "speed": speed,
+                        "stride_length": means.stride_length,
+                        "stride_frequency": means.stride_frequency,
+                        "froude": froude,
+                        "predicted_duty_factor": duty_factor_for(froude) if speed > 0 else math.nan,
+                        "predicted_stride_length": length,
+                        "predicted_stride_frequency": speed / length if speed > 0 else math.nan,
+                    },
+                    "scores": realism.scores,
+                    "distance": realism.distance,
+                    "curves": {name: [float(v) for v in curve] for name, curve in realism.curves.items()},
+                }
+            )
+        return found
+    finally:
+        evaluator.close()
+
+
+def assess_arms(
+    paths: Sequence[Path], *, force: bool = False, progress: Callable[[str], None] | None = None
+) -> list[Path]:
+    """:func:`assess_arm` on each run directory in turn."""
+    return [p for path in paths for p in assess_arm(path, force=force, progress=progress)]

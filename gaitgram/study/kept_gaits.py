@@ -1,0 +1,579 @@
+"""The report's realism and robustness sections: each run's best gait held against real horses and
+pushed.
+
+Read from the assessments ``gaitgram report --assess`` keeps in each run directory
+(:mod:`gaitgram.study.assess`; untrusted input, checked as read), never simulated here: the
+report stays fast and deterministic. Only ``mujoco-horse`` arms have these sections.
+
+**Realism** (*Gaits held against real horses*): per arm, the median over its runs' best gaits of
+the steady-state duty factor, the footfall phases after the left hind, stride frequency and
+length at the gait's speed with what Alexander's relations predict at that speed (Froude-scaled:
+Alexander 1976; Alexander & Jayes 1983), the fetlock angles' ranges and the limbs' most
+protracted and retracted angles, each beside the DLC_Horse walks (``seeds/dlc_walk.json``: median
+and IQR); the realism distance per gait (defined in
+:mod:`gaitgram.backends.mujoco_horse.realism` and docs/study.md) per arm, with the rank tests;
+and a figure overlaying the arms' best gaits' curves on the real walks' band.
+
+**Robustness** (*Robust, not only sustained*): per arm, the share of the runs' best gaits that stay
+upright and walking under each disturbance (a fore-aft push, a bumpy floor;
+:mod:`gaitgram.backends.mujoco_horse.robustness`), and under all of them.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import cache
+from importlib.resources import files
+from typing import Any
+
+import numpy as np
+
+from gaitgram.study.assess import ASSESSMENT, BEST_WALK, FORMAT, MEASURED_ON, assessment_path, kept_key
+from gaitgram.study.model import Column, Figure, Kind, RankTests, Section, Table, figure_name
+from gaitgram.study.records import ArmRecord, ReportError
+from gaitgram.study.stats import bootstrap_median_ci, compare
+
+CURVES = ("fetlock_fore", "fetlock_hind", "protraction_fore", "protraction_hind")
+SCORED = ("duty_factor", "phase_fore_left", "phase_hind_right", "phase_fore_right", *CURVES)
+CURVE_TITLES = {
+    "fetlock_fore": "fore fetlock (deg)",
+    "fetlock_hind": "hind fetlock (deg)",
+    "protraction_fore": "fore limb protraction (deg)",
+    "protraction_hind": "hind limb protraction (deg)",
+}
+
+
+@cache
+def real_walks() -> dict[str, Any]:
+    """The DLC_Horse summary gaitgram ships (``seeds/dlc_walk.json``)."""
+    return json.loads(files("gaitgram.seed").joinpath("dlc_walk.json").read_text(encoding="utf-8"))
+
+
+# ---- what the runs keep ------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Trial:
+    disturbance: str
+    describe: str
+    upright: bool
+    walking: bool
+    detail: str | None
+
+    @property
+    def holds(self) -> bool:
+        return self.upright and self.walking
+
+
+@dataclass(frozen=True)
+class Assessed:
+    """One run's best gait, as its kept assessment measured it."""
+
+    run: int
+    genome: tuple[int, ...]
+    fitness: float
+    walk: bool | None  # the gait is a walk by the walk criterion (the run's records)
+    gait: str  # "measured", "falls" (or does not step), "invalid"
+    measures: dict[str, float] | None
+    scores: dict[str, float] | None
+    distance: float | None
+    curves: dict[str, np.ndarray] | None
+    trials: tuple[Trial, ...]
+
+
+@dataclass(frozen=True)
+class ArmAssessed:
+    arm: str
+    runs: int
+    found: tuple[Assessed, ...]  # current assessments, by run
+    missing: tuple[int, ...]  # runs with none
+    stale: tuple[int, ...]  # runs whose assessment is of another gait, scoring or format
+    walk: Assessed | None = None  # the arm's best walk (which may be no run's best gait), if kept
+
+    @property
+    def measured(self) -> tuple[Assessed, ...]:
+        return tuple(a for a in self.found if a.gait == "measured")
+
+    @property
+    def best(self) -> Assessed | None:
+        """The measured gait of the best fitness (the arm's best of its runs' bests)."""
+        measured = self.measured
+        return min(measured, key=lambda a: (a.fitness, a.run)) if measured else None
+
+
+def load_assessed(arm: ArmRecord) -> ArmAssessed | None:
+    """The kept assessments of ``arm``'s runs; None for an arm not scored on the horse."""
+    if arm.backend != MEASURED_ON:
+        return None
+    found, missing, stale = [], [], []
+    for run, record in zip(arm.numbers, arm.runs, strict=True):
+        path = assessment_path(arm.path, run)
+        if not path.exists():
+            missing.append(run)
+            continue
+        kept = _read(path, arm)
+        best = _best_json(arm, run)
+        expected = (
+            FORMAT,
+            arm.backend_version,
+            best.get("generation"),
+            best.get("genome"),
+            best.get("fitness"),
+        )
+        if kept_key(kept) != expected:
+            stale.append(run)
+            continue
+        found.append(_assessed(kept, run, record.walk, path, arm))
+    walk = None
+    if (arm.path / BEST_WALK).exists():
+        kept = _read(arm.path / BEST_WALK, arm)
+        run = kept.get("run")
+        if kept.get("format") == FORMAT and kept.get("backend_version") == arm.backend_version:
+            if not isinstance(run, int) or isinstance(run, bool):
+                raise ReportError(f"{arm.path / BEST_WALK}: run: not a run number; {_again(arm)}")
+            walk = _assessed(kept, run, True, arm.path / BEST_WALK, arm)
+    return ArmAssessed(arm.name, len(arm.runs), tuple(found), tuple(missing), tuple(stale), walk)
+
+
+def _again(arm: ArmRecord) -> str:
+    return f"measure it again with: gaitgram report --assess {arm.path}"
+
+
+def _read(path: Any, arm: ArmRecord) -> dict[str, Any]:
+    try:
+        kept = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as error:
+        raise ReportError(f"{path}: cannot read it ({error}); {_again(arm)}") from None
+    if not isinstance(kept, dict):
+        raise ReportError(f"{path}: not an assessment of a gait; {_again(arm)}")
+    return kept
+
+
+def _best_json(arm: ArmRecord, run: int) -> dict[str, Any]:
+    """``best.json`` (the report's records read and checked it already)."""
+    return json.loads((arm.path / f"run-{run:03d}" / "best.json").read_text(encoding="utf-8"))
+
+
+def _number(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+def _assessed(kept: dict[str, Any], run: int, walk: bool | None, path: Any, arm: ArmRecord) -> Assessed:
+    """A kept assessment, checked field by field (a number may be null: no value)."""
+
+    def damaged(what: str) -> ReportError:
+        return ReportError(f"{path}: {what}; the file was edited or damaged: {_again(arm)}")
+
+    gait = kept.get("gait")
+    if gait not in ("measured", "falls", "invalid"):
+        raise damaged(f"gait: {gait!r} is not measured, falls or invalid")
+    realism = kept.get("realism")
+    measures = scores = curves = None
+    distance = None
+    if gait == "measured":
+        if not isinstance(realism, dict):
+            raise damaged("realism: missing")
+        measures, scores = realism.get("measures"), realism.get("scores")
+        for name, table in (("measures", measures), ("scores", scores)):
+            if not isinstance(table, dict) or not all(v is None or _number(v) for v in table.values()):
+                raise damaged(f"realism.{name}: not a table of numbers")
+        if set(scores) != set(SCORED):
+            raise damaged(f"realism.scores: not the scores of {', '.join(SCORED)}")
+        measures = {k: math.nan if v is None else float(v) for k, v in measures.items()}
+        scores = {k: math.nan if v is None else float(v) for k, v in scores.items()}
+        distance = realism.get("distance")
+        if not _number(distance) or not math.isfinite(distance):
+            raise damaged("realism.distance: not a finite number")
+        raw = realism.get("curves")
+        if not isinstance(raw, dict) or set(raw) != set(CURVES):
+            raise damaged(f"realism.curves: not the curves {', '.join(CURVES)}")
+        curves = {}
+        for name in CURVES:
+            values = raw[name]
+            if not isinstance(values, list) or not values or not all(_number(v) for v in values):
+                raise damaged(f"realism.curves.{name}: not a list of numbers")
+            curves[name] = np.array(values, dtype=float)
+    trials = kept.get("trials")
+    if not isinstance(trials, list):
+        raise damaged("trials: not a list")
+    checked = []
+    for trial in trials:
+        if not (
+            isinstance(trial, dict)
+            and isinstance(trial.get("disturbance"), str)
+            and isinstance(trial.get("describe"), str)
+            and isinstance(trial.get("upright"), bool)
+            and isinstance(trial.get("walking"), bool)
+            and (trial.get("detail") is None or isinstance(trial.get("detail"), str))
+        ):
+            raise damaged("trials: a trial is not a disturbance, its description, upright, walking, detail")
+        checked.append(
+            Trial(
+                trial["disturbance"], trial["describe"], trial["upright"], trial["walking"], trial["detail"]
+            )
+        )
+    fitness = kept.get("fitness")
+    if not _number(fitness):
+        raise damaged("fitness: not a number")
+    genome = kept.get("genome")
+    if not isinstance(genome, list) or not all(
+        isinstance(c, int) and not isinstance(c, bool) for c in genome
+    ):
+        raise damaged("genome: not a list of codons")
+    return Assessed(
+        run, tuple(genome), float(fitness), walk, gait, measures, scores, distance, curves, tuple(checked)
+    )
+
+
+# ---- figure data -------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ArmCurves:
+    arm: str
+    colour: int  # the arm's index in the report: its colour in every figure
+    best: dict[str, np.ndarray] | None  # the arm's best gait's curves
+    others: tuple[dict[str, np.ndarray], ...]  # its other runs' best gaits'
+
+
+@dataclass(frozen=True)
+class RealismCurves:
+    """Each arm's best gaits' fetlock and protraction curves over one stride (from the hoof's
+    footfall), on the real walks' mean and SD."""
+
+    arms: tuple[ArmCurves, ...]
+    title: str
+
+
+# ---- the sections ------------------------------------------------------------------------------
+
+ASSESS_TEXT = (
+    "These need simulation, kept in each run directory: `gaitgram report --assess` measures "
+    "each run's best gait once (run-NNN/assessment.json); every report after reads them."
+)
+
+
+def _pending_note(assessed: ArmAssessed) -> str | None:
+    parts = []
+    if assessed.missing:
+        parts.append(f"{len(assessed.missing)} not measured yet")
+    if assessed.stale:
+        parts.append(f"{len(assessed.stale)} measured on another gait or scoring (stale)")
+    if not parts:
+        return None
+    return (
+        f"**{assessed.arm}**: of {assessed.runs} runs' best gaits, {' and '.join(parts)}: "
+        "`gaitgram report --assess` measures them"
+    )
+
+
+def _iqr(summary: dict[str, Any]) -> str:
+    low, high = summary["iqr"]
+    return f"IQR {low:g} to {high:g}"
+
+
+def _curve_extreme(curve: np.ndarray, which: str) -> float:
+    return float(np.max(curve) if which == "max" else np.min(curve))
+
+
+def _rows() -> list[tuple[str, str, float | None, str]]:
+    """(key, label, the real walks' value, what that value is) for each row of the measures."""
+    real = real_walks()
+    lands = real["phase_after_left_hind"]
+    seconds = real["stride_seconds"]
+    low, high = seconds["iqr"]
+    rows: list[tuple[str, str, float | None, str]] = [
+        ("speed", "speed (m/s)", None, "not measured (pixels)"),
+        ("froude", "Froude number v / sqrt(g h)", None, ""),
+        ("duty_factor", "duty factor", real["duty_factor"]["median"], _iqr(real["duty_factor"])),
+        ("predicted_duty_factor", "duty factor, Alexander & Jayes at its speed", None, "Froude-scaled"),
+        ("phase_fore_left", "left fore lands after left hind (stride)", lands["LeftFrontHoof"]["median"],
+         _iqr(lands["LeftFrontHoof"])),
+        ("phase_hind_right", "right hind lands after left hind (stride)", lands["RightHindHoof"]["median"],
+         _iqr(lands["RightHindHoof"])),
+        ("phase_fore_right", "right fore lands after left hind (stride)", lands["RightFrontHoof"]["median"],
+         _iqr(lands["RightFrontHoof"])),
+        ("stride_frequency", "stride frequency (Hz)", real["stride_frequency_hz"],
+         f"IQR {1 / high:.3g} to {1 / low:.3g}"),
+        ("predicted_stride_frequency", "stride frequency, Alexander at its speed (Hz)", None,
+         "Froude-scaled"),
+        ("stride_length", "stride length (m)", None, "not measured (pixels)"),
+        ("predicted_stride_length", "stride length, Alexander at its speed (m)", None, "Froude-scaled"),
+    ]  # fmt: skip
+    for name in CURVES:
+        curve = real["curves"][name]
+        mean = np.array(curve["mean"])
+        title = CURVE_TITLES[name].removesuffix(" (deg)")
+        rows.append(
+            (f"{name}_range", f"{title}: range over a stride (deg)", curve["range_of_motion"],
+             f"of the mean stride; a median stride's {curve['median_stride_range']:g}")
+        )  # fmt: skip
+        if name.startswith("protraction"):
+            rows += [
+                (f"{name}_max", f"{title}: most protracted (deg)", float(mean.max()), "of the mean stride"),
+                (f"{name}_min", f"{title}: most retracted (deg)", float(mean.min()), "of the mean stride"),
+            ]
+    return rows
+
+
+def _value(gait: Assessed, key: str) -> float:
+    assert gait.measures is not None
+    assert gait.curves is not None
+    for which in ("max", "min"):
+        if key.endswith(f"_{which}") and key.removesuffix(f"_{which}") in CURVES:
+            return _curve_extreme(gait.curves[key.removesuffix(f"_{which}")], which)
+    return gait.measures.get(key, math.nan)
+
+
+def _median(values: Sequence[float]) -> float | None:
+    finite = [v for v in values if math.isfinite(v)]
+    return float(np.median(finite)) if finite else None
+
+
+def realism_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed]) -> Section | None:
+    """The realism section of the horse arms (``assessed``, in the report's order); None if none."""
+    if not assessed:
+        return None
+    title, scope = "Gaits held against real horses", "each run's best gait"
+    notes = tuple(n for n in map(_pending_note, assessed) if n)
+    measured = [a for a in assessed if a.measured]
+    if not measured:
+        return Section("realism", title, scope, text="Not measured yet. " + ASSESS_TEXT, notes=notes)
+    real = real_walks()
+    text = (
+        "Each run's best gait played as scored and measured as the real walks were: DLC_Horse, "
+        f"{real['clips']} clips of horses walked in hand ({real['strides']} strides; "
+        "`seeds/dlc_walk.json`). Per arm, the median over its runs' best gaits that stand and step. "
+        "Stride frequency and length are the gait's at its own speed, beside what Alexander's relations "
+        "predict at that speed for the model's hip height (Froude-scaled). The **realism distance** of a "
+        "gait is the mean over eight measures (duty factor, three footfall phases, four curves) of its "
+        "distance from the real walks in units of their spread: 0 is their median gait, about 0.67 a gait "
+        "at their quartiles in every measure (docs/study.md). Image-plane angles from one camera compare "
+        "in shape and range, not to the degree. " + ASSESS_TEXT
+    )
+    columns = [
+        Column("measure", "measure", Kind.TEXT),
+        Column("real", "real walks"),
+        Column("real_spread", "real walks: spread", Kind.TEXT),
+    ]
+    columns += [Column(a.arm, a.arm) for a in measured]
+    rows = tuple(
+        (label, real_value, spread, *(_median([_value(g, key) for g in a.measured]) for a in measured))
+        for key, label, real_value, spread in _rows()
+    )
+    measures = Table("measures", tuple(columns), rows, "medians over each arm's runs' best gaits")
+    distance_columns = (
+        Column("arm", "arm", Kind.TEXT),
+        Column("runs", "runs", Kind.COUNT),
+        Column("measured", "measured", Kind.COUNT),
+        Column("falls", "fall or do not step", Kind.COUNT),
+        Column("median_distance", "median distance [95 % CI]", Kind.INTERVAL),
+        Column("mean_distance", "mean distance"),
+        Column("best_distance", "closest"),
+        Column("best_gait_distance", "best gait's"),
+    )
+    distance_rows = []
+    for a in assessed:
+        values = np.array([g.distance for g in a.measured], dtype=float)
+        best = a.best
+        distance_rows.append(
+            (
+                a.arm,
+                a.runs,
+                len(values),
+                sum(g.gait != "measured" for g in a.found),
+                (float(np.median(values)), *bootstrap_median_ci(values))
+                if len(values)
+                else (None, None, None),
+                float(values.mean()) if len(values) else None,
+                float(values.min()) if len(values) else None,
+                best.distance if best else None,
+            )
+        )
+    distance = Table(
+        "distance",
+        distance_columns,
+        tuple(distance_rows),
+        "realism distance of each run's best gait (lower is closer to the real walks); best gait's: the "
+        "arm's best by fitness",
+    )
+    score_columns = (
+        Column("arm", "arm", Kind.TEXT),
+        *(Column(name, name.replace("_", " ")) for name in SCORED),
+    )
+    scores = Table(
+        "scores",
+        score_columns,
+        tuple(
+            (a.arm, *(_median([g.scores[s] for g in a.measured if g.scores]) for s in SCORED))
+            for a in measured
+        ),
+        "median distance per measure, in the real walks' spread (each term of the realism distance)",
+    )
+    tests = (
+        RankTests("realism distance", compare({a.arm: [g.distance for g in a.measured] for a in measured})),
+    )
+    figure = Figure(
+        "realism",
+        "Each arm's best gait (thick) and its other runs' best gaits (thin) over one stride from the hoof's "
+        "footfall, on the real walks' mean and SD (grey)",
+        _curves(arms, measured, "Best gaits beside the real walks (DLC_Horse: mean and SD)"),
+        ("png", "svg"),
+    )
+    falls = [
+        f"**{a.arm}**: runs {', '.join(str(g.run) for g in a.found if g.gait != 'measured')} hand back "
+        "a best gait that falls or does not step: nothing to measure"
+        for a in assessed
+        if any(g.gait != "measured" for g in a.found)
+    ]
+    return Section(
+        "realism",
+        title,
+        scope,
+        text=text,
+        tables=(measures, distance, scores),
+        tests=tests,
+        notes=(*notes, *falls),
+        figures=(figure,),
+    )
+
+
+def _curves(
+    arms: Sequence[ArmRecord],
+    assessed: Sequence[ArmAssessed],
+    title: str,
+    highlight: dict[str, Assessed | None] | None = None,
+) -> RealismCurves:
+    """Each arm's curves: ``highlight``'s gait thick (default: the arm's best by fitness)."""
+    index = {a.name: k for k, a in enumerate(arms)}
+    chosen = {a.arm: (highlight or {}).get(a.arm, a.best) for a in assessed}
+    return RealismCurves(
+        tuple(
+            ArmCurves(
+                a.arm,
+                index.get(a.arm, k),
+                chosen[a.arm].curves if chosen[a.arm] else None,
+                tuple(g.curves for g in a.measured if g is not chosen[a.arm] and g.curves is not None),
+            )
+            for k, a in enumerate(assessed)
+        ),
+        title,
+    )
+
+
+def arm_curves_figure(
+    arms: Sequence[ArmRecord], assessed: ArmAssessed, walk: Sequence[int] | None = None
+) -> Figure | None:
+    """One arm's best gaits' curves on the real walks' band, to show beside its animated ``walk``
+    (a genome): thick, that walk's, if it is a run's best gait; else the arm's best by fitness."""
+    if not assessed.measured:
+        return None
+    kept_walk = [assessed.walk] if assessed.walk and assessed.walk.gait == "measured" else []
+    same = [g for g in (*assessed.measured, *kept_walk) if walk is not None and g.genome == tuple(walk)]
+    shown = same[0] if same else assessed.best
+    assert shown is not None
+    if same and shown is assessed.walk:
+        thick = f"thick: the walk beside (from run {shown.run}'s last population)"
+    elif same:
+        thick = f"thick: the walk beside, run {shown.run}'s best gait"
+    else:
+        thick = f"thick: run {shown.run}'s, the best by fitness (the walk beside is not a run's best gait)"
+    caption = (
+        f"{assessed.arm}: its runs' best gaits over one stride beside the real walks (grey: mean and SD); "
+        + thick
+    )
+    data = _curves(arms, [assessed], f"{assessed.arm} beside the real walks", {assessed.arm: shown})
+    return Figure(figure_name("curves", assessed.arm, ""), caption, data, ("png",))
+
+
+def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed]) -> Section | None:
+    """The robustness section of the horse arms; None if none."""
+    if not assessed:
+        return None
+    title, scope = "Robust, not only sustained", "each run's best gait"
+    notes = [n for n in map(_pending_note, assessed) if n]
+    tried = [a for a in assessed if any(g.trials for g in a.found)]
+    if not tried:
+        return Section(
+            "robustness", title, scope, text="Not measured yet. " + ASSESS_TEXT, notes=tuple(notes)
+        )
+    disturbances: dict[str, str] = {}
+    for a in tried:
+        for g in a.found:
+            for t in g.trials:
+                disturbances.setdefault(t.disturbance, t.describe)
+    names = list(disturbances)
+    text = (
+        "Each run's best gait played from the standing horse to the horizon under each disturbance: "
+        + "; ".join(f"**{n}**: {d}" for n, d in disturbances.items())
+        + ". A gait **holds** when it stays upright for the whole horizon and is walking again by the walk "
+        "criterion over the horizon's last cycles (docs/study.md). Shares are of the runs' best gaits "
+        "measured; *walk*: the best gait is a walk undisturbed. " + ASSESS_TEXT
+    )
+    columns = [
+        Column("arm", "arm", Kind.TEXT),
+        Column("measured", "measured", Kind.COUNT),
+        Column("walk", "walk", Kind.SHARE),
+        *(Column(f"holds_{n}", f"holds: {n}", Kind.SHARE) for n in names),
+        Column("holds_all", "holds all", Kind.SHARE),
+        Column("walk_holds_all", "walk, holds all", Kind.SHARE),
+    ]
+    rows = []
+    for a in assessed:
+        found = a.found
+        n = len(found)
+
+        def share(flags: Sequence[bool], n: int = n) -> float | None:
+            return sum(flags) / n if n else None
+
+        holds = {t: [_holds(g, t) for g in found] for t in names}
+        every = [all(_holds(g, t) for t in names) for g in found]
+        walks = [g.walk for g in found]
+        rows.append(
+            (
+                a.arm,
+                n,
+                None if any(w is None for w in walks) else share([bool(w) for w in walks]),
+                *(share(holds[t]) for t in names),
+                share(every),
+                None
+                if any(w is None for w in walks)
+                else share([bool(w) and e for w, e in zip(walks, every, strict=True)]),
+            )
+        )
+        failures = []
+        for t in names:
+            fell = sum(not _trial(g, t).upright for g in found if _trial(g, t))
+            stopped = sum(_trial(g, t).upright and not _trial(g, t).walking for g in found if _trial(g, t))
+            if fell or stopped:
+                failures.append(f"{t}: {fell} fell, {stopped} stayed up but were not walking again")
+        if failures:
+            notes.append(f"**{a.arm}**: " + "; ".join(failures))
+    table = Table(
+        "shares", tuple(columns), tuple(rows), "share of the runs' best gaits that stay upright and walking"
+    )
+    return Section("robustness", title, scope, text=text, tables=(table,), notes=tuple(notes))
+
+
+def _trial(gait: Assessed, name: str) -> Any:
+    return next((t for t in gait.trials if t.disturbance == name), None)
+
+
+def _holds(gait: Assessed, name: str) -> bool:
+    trial = _trial(gait, name)
+    return bool(trial and trial.holds)
+
+
+__all__ = [
+    "ASSESSMENT",
+    "ArmAssessed",
+    "Assessed",
+    "RealismCurves",
+    "arm_curves_figure",
+    "load_assessed",
+    "realism_section",
+    "robustness_section",
+]

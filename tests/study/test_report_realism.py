@@ -1,0 +1,241 @@
+"""The realism and robustness sections of a report on the horse, from real runs: ``gaitgram report
+--assess`` measures each run's best gait once (kept in the run directory), every report reads it.
+
+Two short arms are run here (GE and random search on the hybrid grammar under the paper's weights;
+GE's seed 0 hands back a walk, so its best walk is animated), reported with ``--assess --gaits 1``
+and opened in Debian's Chromium.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import shutil
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from PIL import Image
+from study.browser import Opened, chromium
+from typer.testing import CliRunner
+
+from conftest import GRAMMARS
+from gaitgram.cli import app
+from gaitgram.evolution.rundir import RunDirectory, best_walk_of_runs
+from gaitgram.study import assess as assess_module
+from gaitgram.study.assess import ASSESSMENT, BEST_WALK, assess_arm
+
+runner = CliRunner()
+PAPER_WEIGHTS = (
+    'backend = "mujoco-horse"\n[backend_settings]\n'
+    "weights = { velocity = 1.0, duty_factor = 1.0, stride = 1.0, frequency = 0.0, energy = 1.0 }\n"
+)
+ARMS = {"ge": ("ge", 0), "random": ("random", 4)}
+TEXT = ("summary.md", "summary.csv", "tables.tex", "summary.json", "realism-measures.csv")
+
+
+@pytest.fixture(scope="module")
+def made(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Two arms of two runs each, reported with --assess --gaits 1 (in ``made / "report"``)."""
+    base = tmp_path_factory.mktemp("realism")
+    (base / "paper.toml").write_text(PAPER_WEIGHTS)
+    for name, (strategy, seed) in ARMS.items():
+        result = runner.invoke(
+            app,
+            [
+                "evolve",
+                str(GRAMMARS / "hybrid.gg"),
+                "-c",
+                str(base / "paper.toml"),
+                *("--generations", "2", "--population", "16", "--runs", "2", "--seed", str(seed)),
+                *("--strategy", strategy, "-o", str(base / name), "-q"),
+            ],
+        )
+        assert result.exit_code == 0, result.output
+    # in a process of its own: the GIF needs MuJoCo's offscreen OpenGL chosen before MuJoCo loads
+    report = [*(str(base / n) for n in ARMS), "-o", str(base / "report"), "--assess", "--gaits", "1"]
+    env = {**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
+    done = subprocess.run(
+        [sys.executable, "-m", "gaitgram", "report", *report], capture_output=True, text=True, env=env
+    )
+    assert done.returncode == 0, done.stderr
+    assert "measuring the best gaits of 2 run(s)" in done.stderr
+    return base
+
+
+def kept(arm: Path) -> list[dict[str, Any]]:
+    return [json.loads((arm / f"run-{r:03d}" / ASSESSMENT).read_text()) for r in range(2)]
+
+
+def rows(path: Path) -> list[dict[str, str]]:
+    return list(csv.DictReader(io.StringIO(path.read_text())))
+
+
+@pytest.mark.slow
+def test_each_run_s_best_gait_is_measured_as_the_backend_measures_it(made: Path) -> None:
+    from gaitgram.backends.mujoco_horse.realism import assess
+    from gaitgram.backends.mujoco_horse.robustness import disturbed
+
+    for name in ARMS:
+        for run, record in enumerate(kept(made / name)):
+            best = json.loads((made / name / f"run-{run:03d}" / "best.json").read_text())
+            assert record["genome"] == best["genome"]
+            assert record["fitness"] == best["fitness"]
+            assert record["gait"] in ("measured", "falls")
+            assert [t["disturbance"] for t in record["trials"]] == ["push-forward", "push-backward", "bumps"]
+    # the walk the report animates is measured too, from wherever in the runs it comes
+    directory = RunDirectory.open(made / "ge")
+    walk = json.loads((made / "ge" / BEST_WALK).read_text())
+    assert walk["genome"] == list(best_walk_of_runs(directory).genome)
+    assert walk["gait"] == "measured"
+    # recomputed independently through the backend's own functions, for one gait
+    pipeline = directory.pipeline
+    record = kept(made / "ge")[0]
+    batch = pipeline.motion(pipeline.map([tuple(record["genome"])]), pipeline.config.generations)
+    settings = dict(pipeline.config.backend_settings)
+    (realism,) = assess(settings, batch)
+    assert realism is not None
+    assert record["realism"]["distance"] == pytest.approx(realism.distance, rel=1e-12)
+    assert record["realism"]["scores"] == pytest.approx(realism.scores, rel=1e-12)
+    assert record["realism"]["measures"]["duty_factor"] == pytest.approx(realism.measures["duty_factor"])
+    (trial,) = disturbed(settings, batch, "push-backward")
+    pushed = next(t for t in record["trials"] if t["disturbance"] == "push-backward")
+    assert (pushed["upright"], pushed["walking"], pushed["detail"]) == (
+        trial.upright,
+        trial.walking,
+        trial.detail,
+    )
+
+
+@pytest.mark.slow
+def test_the_sections_show_what_the_runs_keep(made: Path) -> None:
+    out = made / "report"
+    summary = (out / "summary.md").read_text()
+    assert "**Gaits held against real horses** (each run's best gait):" in summary
+    assert "**Robust, not only sustained** (each run's best gait):" in summary
+    assert "**realism distance**: Kruskal-Wallis H =" in summary
+    distances = {
+        name: [r["realism"]["distance"] for r in kept(made / name) if r["gait"] == "measured"]
+        for name in ARMS
+    }
+    for row in rows(out / "realism-distance.csv"):
+        values = distances[row["arm"]]
+        assert int(row["measured"]) == len(values)
+        assert float(row["median_distance"]) == pytest.approx(np.median(values))
+        assert float(row["best_distance"]) == pytest.approx(min(values))
+    for row in rows(out / "robustness-shares.csv"):
+        records = kept(made / row["arm"])
+        holds = [all(t["upright"] and t["walking"] for t in r["trials"]) for r in records]
+        assert float(row["holds_all"]) == pytest.approx(sum(holds) / len(records))
+        bumps = [next(t for t in r["trials"] if t["disturbance"] == "bumps") for r in records]
+        assert float(row["holds_bumps"]) == pytest.approx(
+            sum(t["upright"] and t["walking"] for t in bumps) / 2
+        )
+    measures = {r["measure"]: r for r in rows(out / "realism-measures.csv")}
+    assert float(measures["duty factor"]["real"]) == 0.588  # DLC_Horse's median
+    assert measures["duty factor"]["real_spread"] == "IQR 0.55 to 0.632"
+    ge = [r["realism"]["measures"]["stride_frequency"] for r in kept(made / "ge") if r["gait"] == "measured"]
+    assert float(measures["stride frequency (Hz)"]["ge"]) == pytest.approx(np.median(ge))
+    data = json.loads((out / "summary.json").read_text())
+    assert set(data["sections"]) == {"realism", "robustness"}
+    assert list(data["sections"]["realism"]["tests"]) == ["realism distance"]
+    assert (out / "realism.svg").read_text().count("<svg") == 1
+    assert (out / "walk-ge.gif").exists()  # GE's seed 0 hands back a walk: animated, its curves beside
+    assert (out / "curves-ge.png").read_bytes().startswith(b"\x89PNG")
+
+
+@pytest.mark.slow
+def test_a_report_reads_what_was_kept_and_simulates_nothing(
+    made: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def never(*_: object) -> None:
+        raise AssertionError("simulated again")
+
+    monkeypatch.setattr(assess_module, "measure", never)
+    assert assess_arm(made / "ge") == []  # every run's best gait is measured already
+    result = runner.invoke(
+        app, ["report", *(str(made / n) for n in ARMS), "-o", str(tmp_path / "again"), "--assess"]
+    )
+    assert result.exit_code == 0, result.stderr
+    for name in (*TEXT, "realism.svg"):
+        assert (tmp_path / "again" / name).read_bytes() == (made / "report" / name).read_bytes(), name
+
+
+@pytest.mark.slow
+def test_a_stale_or_missing_assessment_is_said_and_a_damaged_one_refused(made: Path, tmp_path: Path) -> None:
+    arm = Path(shutil.copytree(made / "ge", tmp_path / "ge"))
+    record = json.loads((arm / "run-001" / ASSESSMENT).read_text())
+    record["genome"] = [*record["genome"], 1]  # another gait's
+    (arm / "run-001" / ASSESSMENT).write_text(json.dumps(record))
+    result = runner.invoke(app, ["report", str(arm), "-o", str(tmp_path / "stale")])
+    assert result.exit_code == 0, result.stderr
+    summary = (tmp_path / "stale" / "summary.md").read_text()
+    assert "of 2 runs' best gaits, 1 measured on another gait or scoring (stale)" in summary
+    (row,) = rows(tmp_path / "stale" / "realism-distance.csv")
+    assert int(row["measured"]) == (kept(made / "ge")[0]["gait"] == "measured")
+
+    for run in range(2):
+        (arm / f"run-{run:03d}" / ASSESSMENT).unlink()
+    result = runner.invoke(app, ["report", str(arm), "-o", str(tmp_path / "none")])
+    assert result.exit_code == 0, result.stderr
+    summary = (tmp_path / "none" / "summary.md").read_text()
+    assert "**Gaits held against real horses** (each run's best gait):\n\nNot measured yet." in summary
+    assert "of 2 runs' best gaits, 2 not measured yet" in summary
+    assert not list((tmp_path / "none").glob("realism*"))
+
+    (arm / "run-000" / ASSESSMENT).write_text('{"format": 1')
+    result = runner.invoke(app, ["report", str(arm), "-o", str(tmp_path / "damaged")])
+    assert result.exit_code == 2
+    assert str(arm / "run-000" / ASSESSMENT) in result.stderr
+    assert f"gaitgram report --assess {arm}" in result.stderr
+    assert not (tmp_path / "damaged").exists()
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Any]:
+    with chromium() as launched:
+        yield launched
+
+
+@pytest.mark.slow
+def test_chromium_shows_the_sections_and_the_animated_walk_beside_the_real_walks(
+    browser: Any, made: Path, tmp_path: Path
+) -> None:
+    opened = Opened(browser, made / "report" / "report.html")
+    page = opened.page
+    assert opened.errors == []
+    assert opened.requests == [(made / "report" / "report.html").as_uri()]
+    (tmp_path / "report.png").write_bytes(page.screenshot(full_page=True))
+    assert opened.column("realism-distance", 0) == ["ge", "random"]
+    assert len(opened.column("realism-measures", 0)) == 19
+    assert opened.column("robustness-shares", 0) == ["ge", "random"]
+    assert page.locator("#realism h3", has_text="Rank tests: realism distance").count() == 1
+    images = {i["id"]: i for i in opened.images()}
+    assert images["realism"]["kind"] == "image/svg+xml"
+    assert images["walk-ge"]["kind"] == "image/gif"
+    assert images["curves-ge"]["kind"] == "image/png"
+    assert all(i["complete"] and i["width"] > 0 for i in images.values()), images
+    gif = page.eval_on_selector("#walk-ge img", "i => i.src")
+    import base64
+
+    animation = Image.open(io.BytesIO(base64.b64decode(gif.split(",", 1)[1])))
+    assert animation.n_frames > 10  # it moves
+    walk, curves = (page.locator(f"#{name}").bounding_box() for name in ("walk-ge", "curves-ge"))
+    assert walk is not None
+    assert curves is not None
+    assert curves["x"] >= walk["x"] + walk["width"]  # side by side
+    assert abs(curves["y"] - walk["y"]) < 1
+    caption = page.locator("#curves-ge figcaption").text_content()
+    assert caption is not None
+    assert "thick: the walk beside" in caption  # the animated walk's own curves, measured
+    header = page.locator("#realism-distance th", has_text="median distance")
+    header.click()
+    medians = [float(v.split(" ")[0]) for v in opened.column("realism-distance", 4)]
+    assert medians == sorted(medians)
+    assert opened.errors == []
