@@ -74,7 +74,7 @@ def test_check_of_a_horse_grammar_imports_no_numpy() -> None:
     assert heavy == []
 
 
-def test_help_lists_every_command_without_importing_them_first() -> None:
+def test_help_lists_the_lazily_loaded_commands_in_order() -> None:
     """The lazily loaded commands are the ones help lists, in the same order."""
     from typer.testing import CliRunner
 
