@@ -1,4 +1,5 @@
-"""What several commands do first: load a grammar that must be usable, read a genome."""
+"""What several commands share: how they report an error, load a grammar that must be usable,
+read a genome, and check and write their outputs."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from rich.console import Console
 
 from gaitgram import fileio
 from gaitgram.analysis import CheckResult, check
-from gaitgram.cli.output import human, print_source_error
+from gaitgram.analysis.report import human, source_error
 from gaitgram.extras import MissingExtra, require
 from gaitgram.language import SourceError, parse
 from gaitgram.language.source import (
@@ -26,13 +27,28 @@ from gaitgram.language.source import (
 err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
 
 
+def print_error(message: str) -> None:
+    """``error: message`` on standard error, in bold red: how every command says what failed."""
+    err.print(f"error: {message}", style="bold red")
+
+
+def fail(message: str, code: int = 2) -> typer.Exit:
+    """Print the error and give the exit to raise: ``raise fail(str(error)) from None``."""
+    print_error(message)
+    return typer.Exit(code)
+
+
+def print_source_error(error: SourceError) -> None:
+    """``error: cannot read PATH: why``, and the hint."""
+    err.print(source_error(error), end="", soft_wrap=True, highlight=False)
+
+
 def require_extra(module: str, purpose: str) -> ModuleType:
     """Import an optional dependency, or print how to install it and exit 2."""
     try:
         return require(module, purpose)
     except MissingExtra as error:
-        err.print(f"error: {error}", style="bold red")
-        raise typer.Exit(2) from None
+        raise fail(str(error)) from None
 
 
 def check_output(
@@ -43,8 +59,7 @@ def check_output(
     try:
         fileio.check_output(path, force=force, directory=directory, parents=parents, flag=flag)
     except fileio.OutputError as error:
-        err.print(f"error: {error}", style="bold red", markup=False)
-        raise typer.Exit(2) from None
+        raise fail(str(error)) from None
 
 
 def write_or_exit(path: Path, data: str | bytes) -> None:
@@ -58,8 +73,7 @@ def write_all_or_exit(files: list[tuple[Path, str | bytes]]) -> None:
     try:
         fileio.write_outputs(files)
     except OSError as error:
-        err.print(f"error: cannot write {error.filename}: {describe_os_error(error)}", style="bold red")
-        raise typer.Exit(2) from None
+        raise fail(f"cannot write {error.filename}: {describe_os_error(error)}") from None
 
 
 def load_usable(path: Path, defines: dict[str, int]) -> CheckResult:
@@ -67,7 +81,7 @@ def load_usable(path: Path, defines: dict[str, int]) -> CheckResult:
     try:
         source = read_source(path)
     except SourceError as error:
-        print_source_error(err, error)
+        print_source_error(error)
         raise typer.Exit(2) from None
     result = check(parse(source, defines=defines))
     if result.errors:
@@ -118,10 +132,9 @@ def read_genome(inline: str | None, file: Path | None) -> tuple[int, ...]:
             data = read_bytes(file, max_bytes=MAX_SOURCE_BYTES, what="genome")
         text = data.decode("utf-8-sig")
     except SourceError as error:
-        print_source_error(err, error)
+        print_source_error(error)
         raise typer.Exit(2) from None
     except (OSError, UnicodeDecodeError) as error:
         reason = describe_os_error(error) if isinstance(error, OSError) else "not UTF-8 text"
-        err.print(f"error: cannot read {name}: {reason}", style="bold red")
-        raise typer.Exit(2) from None
+        raise fail(f"cannot read {name}: {reason}") from None
     return parse_genome(text, name)

@@ -11,44 +11,56 @@ from rich.console import Console
 from rich.table import Table
 
 from gaitgram import jsonio
-from gaitgram.cli.common import err
+from gaitgram.cli.common import err, fail
 from gaitgram.cli.options import Defines, Walk
-from gaitgram.cli.selection import SelectionError, select_gait
-from gaitgram.ge import CodonMode
-from gaitgram.pipeline import PipelineError
+from gaitgram.cli.selection import (
+    Codons,
+    GenomeCodons,
+    GenomeFile,
+    Grammar,
+    MaxWraps,
+    SelectedGait,
+    SelectionError,
+    select_gait,
+)
+from gaitgram.evolution.selection import score
+from gaitgram.pipeline import Individual, PipelineError
+
+_Run = Annotated[
+    Path | None,
+    typer.Option("--run", help="Use this run directory's own pipeline; by default, its best gait."),
+]
+_Generation = Annotated[
+    int | None,
+    typer.Option(
+        min=0, help="Score as in this generation: its joint freedom and weights (default: the last)."
+    ),
+]
+_Config = Annotated[
+    Path | None, typer.Option("--config", "-c", help="A run.toml: codons, backend, settings, weights.")
+]
+_Backend = Annotated[
+    str | None, typer.Option(help="Fitness backend (default: the grammar's @backend, else mujoco-horse).")
+]
+_MaxDepth = Annotated[int | None, typer.Option(min=1, help="Deepest rule node (default: none).")]
+_Settings = Annotated[
+    list[str] | None,
+    typer.Option("--set", metavar="KEY=JSON", help="A backend setting, for example froude=0.5."),
+]
 
 
 def command(
-    grammar: Annotated[Path | None, typer.Argument(help="The grammar (not with --run).")] = None,
-    run: Annotated[
-        Path | None,
-        typer.Option("--run", help="Use this run directory's own pipeline; by default, its best gait."),
-    ] = None,
-    genome: Annotated[str | None, typer.Option(help="Codons, for example 12,7,301.")] = None,
-    genome_file: Annotated[
-        Path | None, typer.Option(help="Read the codons from a file; - for standard input.")
-    ] = None,
-    generation: Annotated[
-        int | None,
-        typer.Option(
-            min=0, help="Score as in this generation: its joint freedom and weights (default: the last)."
-        ),
-    ] = None,
-    config: Annotated[
-        Path | None, typer.Option("--config", "-c", help="A run.toml: codons, backend, settings, weights.")
-    ] = None,
-    backend: Annotated[
-        str | None, typer.Option(help="Fitness backend (default: the grammar's @backend, else mujoco-horse).")
-    ] = None,
-    codons: Annotated[
-        CodonMode | None, typer.Option(help="Codon consumption, lazy or eager (default lazy).")
-    ] = None,
-    max_wraps: Annotated[int | None, typer.Option(min=0, help="Wraps allowed (default 3).")] = None,
-    max_depth: Annotated[int | None, typer.Option(min=1, help="Deepest rule node (default: none).")] = None,
-    setting: Annotated[
-        list[str] | None,
-        typer.Option("--set", metavar="KEY=JSON", help="A backend setting, for example froude=0.5."),
-    ] = None,
+    grammar: Grammar = None,
+    run: _Run = None,
+    genome: GenomeCodons = None,
+    genome_file: GenomeFile = None,
+    generation: _Generation = None,
+    config: _Config = None,
+    backend: _Backend = None,
+    codons: Codons = None,
+    max_wraps: MaxWraps = None,
+    max_depth: _MaxDepth = None,
+    setting: _Settings = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     walk: Walk = False,
     defines: Defines = None,
@@ -58,13 +70,12 @@ def command(
     With --run, the gait is scored by the run's own pipeline, and re-scoring the run's best must
     reproduce the fitness the run recorded (exit 2 if it does not). Exit 1 if the gait is not viable.
     """
-    settings = _settings(setting)
     overrides = {
         "backend": backend,
         "codons": codons.value if codons is not None else None,
         "max_wraps": max_wraps,
         "max_depth": max_depth,
-        "backend_settings": settings or None,
+        "backend_settings": _settings(setting) or None,
     }
     try:
         chosen = select_gait(
@@ -78,58 +89,58 @@ def command(
             defines=defines,
             walk=walk,
         )
-        pipeline = chosen.pipeline
-        evaluator = pipeline.load_evaluator()
-        try:  # as a run keeps a gait: checked over the backend's horizon
-            (scored,) = pipeline.verify([chosen.genome], evaluator, chosen.generation)
-        finally:
-            evaluator.close()
+        scored = score(chosen)
     except (SelectionError, PipelineError) as error:
-        err.print(f"error: {error}", style="bold red", markup=False)
-        raise typer.Exit(2) from None
+        raise fail(str(error)) from None
     evaluation = scored.evaluation
-    reproduced = chosen.recorded is None or chosen.recorded == evaluation
     if as_json:
-        record = {
-            "backend": pipeline.backend,
-            "generation": chosen.generation,
-            "genome": list(chosen.genome),
-            "phenotype": scored.phenotype,
-            **evaluation.as_record(),
-        }
-        if chosen.recorded is not None:
-            record["recorded_fitness"] = chosen.recorded.fitness
-        typer.echo(jsonio.dumps(record))
+        typer.echo(jsonio.dumps(_record(chosen, scored)))
     else:
-        out = Console(highlight=False, markup=False)
-        table = Table(title=f"{pipeline.backend}: {evaluation.status.value}", show_header=True)
-        table.add_column("component")
-        table.add_column("value", justify="right")
-        table.add_row("fitness", f"{evaluation.fitness:.6g}", style="bold")
-        for key, value in evaluation.components.items():
-            table.add_row(key, f"{value:.6g}")
-        out.print(table)
-        if evaluation.cycles:
-            out.print(_cycles_table(evaluation.cycles))
-        verdict = pipeline.spec.verdict
-        if verdict is not None and evaluation.status.viable and not verdict.holds(evaluation):
-            missing = ", ".join(verdict.failed_terms(evaluation))
-            out.print(f"not a {verdict.label}: {missing}", markup=False)
-        err.print(chosen.describe, markup=False)
-        if evaluation.detail:
-            out.print(evaluation.detail, markup=False)
-    if not reproduced:
-        assert chosen.recorded is not None
-        err.print(
-            f"error: re-scoring gives fitness {evaluation.fitness!r} ({evaluation.status}), but the run "
+        _show(chosen, scored)
+    if chosen.recorded is not None and chosen.recorded != evaluation:
+        raise fail(
+            f"re-scoring gives fitness {evaluation.fitness!r} ({evaluation.status}), but the run "
             f"recorded {chosen.recorded.fitness!r} ({chosen.recorded.status}): the backend is not "
-            "deterministic, or the run was altered",
-            style="bold red",
-            markup=False,
+            "deterministic, or the run was altered"
         )
-        raise typer.Exit(2)
     if not evaluation.status.viable:
         raise typer.Exit(1)
+
+
+def _record(chosen: SelectedGait, scored: Individual) -> dict[str, Any]:
+    """``--json``: the gait, where it was scored, and its evaluation."""
+    record = {
+        "backend": chosen.pipeline.backend,
+        "generation": chosen.generation,
+        "genome": list(chosen.genome),
+        "phenotype": scored.phenotype,
+        **scored.evaluation.as_record(),
+    }
+    if chosen.recorded is not None:
+        record["recorded_fitness"] = chosen.recorded.fitness
+    return record
+
+
+def _show(chosen: SelectedGait, scored: Individual) -> None:
+    """For people: the fitness and its components, the scored cycles, and why it is not a walk."""
+    evaluation = scored.evaluation
+    out = Console(highlight=False, markup=False)
+    table = Table(title=f"{chosen.pipeline.backend}: {evaluation.status.value}", show_header=True)
+    table.add_column("component")
+    table.add_column("value", justify="right")
+    table.add_row("fitness", f"{evaluation.fitness:.6g}", style="bold")
+    for key, value in evaluation.components.items():
+        table.add_row(key, f"{value:.6g}")
+    out.print(table)
+    if evaluation.cycles:
+        out.print(_cycles_table(evaluation.cycles))
+    verdict = chosen.pipeline.spec.verdict
+    if verdict is not None and evaluation.status.viable and not verdict.holds(evaluation):
+        missing = ", ".join(verdict.failed_terms(evaluation))
+        out.print(f"not a {verdict.label}: {missing}", markup=False)
+    err.print(chosen.describe, markup=False)
+    if evaluation.detail:
+        out.print(evaluation.detail, markup=False)
 
 
 def _cycles_table(cycles: dict[str, tuple[float, ...]] | Any) -> Table:

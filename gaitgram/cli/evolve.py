@@ -14,7 +14,7 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
 from gaitgram.backends.api import Evaluator
-from gaitgram.cli.common import check_output, err, load_usable
+from gaitgram.cli.common import check_output, err, fail, load_usable
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint
 from gaitgram.evolution.config import ConfigError, RunConfig, load_config, with_overrides
@@ -33,68 +33,77 @@ from gaitgram.strategies.registry import load_strategy, run_pipeline
 _INPUT_ERRORS = (ConfigError, PipelineError, RunDirectoryError, CheckpointError, TransferError)
 
 
-def fail(message: str, code: int = 2) -> typer.Exit:
-    err.print(f"error: {message}", style="bold red", markup=False, highlight=False)
-    return typer.Exit(code)
+_Grammar = Annotated[
+    Path | None,
+    typer.Argument(help="The grammar to evolve; with --resume, only checked against the run's copy."),
+]
+_Config = Annotated[
+    Path | None, typer.Option("--config", "-c", help="A run.toml with any of the keys in docs/evolve.md.")
+]
+_Generations = Annotated[
+    int | None, typer.Option(min=1, help="Generations after the initial one (default 50).")
+]
+_Population = Annotated[int | None, typer.Option(min=2, help="Population size (default 75).")]
+_Runs = Annotated[int | None, typer.Option(min=1, help="Independent runs with derived seeds (default 1).")]
+_Seed = Annotated[int | None, typer.Option(min=0, help="Random seed (default 0).")]
+_Backend = Annotated[
+    str | None,
+    typer.Option(help="Fitness backend (default: the grammar's @backend, else mujoco-horse)."),
+]
+_Strategy = Annotated[
+    str | None,
+    typer.Option(
+        help="Search strategy: ge (default), random, cma-es, nsga2, map-elites, or a plug-in's "
+        "(docs/strategies.md)."
+    ),
+]
+_Threads = Annotated[
+    int | None,
+    typer.Option(min=1, help="Simulation threads, for backends that use them (default: all cores)."),
+]
+_StartFrom = Annotated[
+    Path | None,
+    typer.Option(
+        help="Start from this finished run's final population (the same grammar; run i from its "
+        "run i): a horse's run, for example, with body = \"draft\" in the --config file's "
+        "[backend_settings]."
+    ),
+]
+_Out = Annotated[
+    Path | None,
+    typer.Option("--out", "-o", help="A new run directory (default runs/GRAMMAR-seedSEED)."),
+]
+_Resume = Annotated[
+    Path | None,
+    typer.Option(help="Continue the run in this directory; any flag given must agree with it."),
+]
+_Scheduler = Annotated[
+    str | None, typer.Option(help="Evaluate on the Dask scheduler at this address, tcp://HOST:PORT.")
+]
+_DaskLocal = Annotated[
+    int | None, typer.Option(min=1, help="Evaluate on a local Dask cluster of this many workers.")
+]
+_Quiet = Annotated[bool, typer.Option("--quiet", "-q", help="Print only the summary.")]
+_Jsonl = Annotated[bool, typer.Option("--jsonl", help="Print one JSON line of statistics per generation.")]
 
 
 def command(
-    grammar: Annotated[
-        Path | None,
-        typer.Argument(help="The grammar to evolve; with --resume, only checked against the run's copy."),
-    ] = None,
-    config: Annotated[
-        Path | None, typer.Option("--config", "-c", help="A run.toml with any of the keys in docs/evolve.md.")
-    ] = None,
-    generations: Annotated[
-        int | None, typer.Option(min=1, help="Generations after the initial one (default 50).")
-    ] = None,
-    population: Annotated[int | None, typer.Option(min=2, help="Population size (default 75).")] = None,
-    runs: Annotated[
-        int | None, typer.Option(min=1, help="Independent runs with derived seeds (default 1).")
-    ] = None,
-    seed: Annotated[int | None, typer.Option(min=0, help="Random seed (default 0).")] = None,
-    backend: Annotated[
-        str | None,
-        typer.Option(help="Fitness backend (default: the grammar's @backend, else mujoco-horse)."),
-    ] = None,
-    strategy: Annotated[
-        str | None,
-        typer.Option(
-            help="Search strategy: ge (default), random, cma-es, nsga2, map-elites, or a plug-in's "
-            "(docs/strategies.md)."
-        ),
-    ] = None,
-    threads: Annotated[
-        int | None,
-        typer.Option(min=1, help="Simulation threads, for backends that use them (default: all cores)."),
-    ] = None,
-    start_from: Annotated[
-        Path | None,
-        typer.Option(
-            help="Start from this finished run's final population (the same grammar; run i from its "
-            "run i): a horse's run, for example, with body = \"draft\" in the --config file's "
-            "[backend_settings]."
-        ),
-    ] = None,
-    out: Annotated[
-        Path | None,
-        typer.Option("--out", "-o", help="A new run directory (default runs/GRAMMAR-seedSEED)."),
-    ] = None,
-    resume: Annotated[
-        Path | None,
-        typer.Option(help="Continue the run in this directory; any flag given must agree with it."),
-    ] = None,
-    scheduler: Annotated[
-        str | None, typer.Option(help="Evaluate on the Dask scheduler at this address, tcp://HOST:PORT.")
-    ] = None,
-    dask_local: Annotated[
-        int | None, typer.Option(min=1, help="Evaluate on a local Dask cluster of this many workers.")
-    ] = None,
-    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print only the summary.")] = False,
-    jsonl: Annotated[
-        bool, typer.Option("--jsonl", help="Print one JSON line of statistics per generation.")
-    ] = False,
+    grammar: _Grammar = None,
+    config: _Config = None,
+    generations: _Generations = None,
+    population: _Population = None,
+    runs: _Runs = None,
+    seed: _Seed = None,
+    backend: _Backend = None,
+    strategy: _Strategy = None,
+    threads: _Threads = None,
+    start_from: _StartFrom = None,
+    out: _Out = None,
+    resume: _Resume = None,
+    scheduler: _Scheduler = None,
+    dask_local: _DaskLocal = None,
+    quiet: _Quiet = False,
+    jsonl: _Jsonl = False,
     defines: Defines = None,
 ) -> None:
     """Evolve gaits with GE (the paper's Table 1 parameters by default), or search them with another
@@ -115,29 +124,40 @@ def command(
                 directory = _resume(resume, grammar, config, given, defines, out, held)
                 pipeline = directory.pipeline
             else:
-                if grammar is None:
-                    raise typer.BadParameter(
-                        "give a grammar to evolve, or --resume DIR", param_hint="GRAMMAR"
-                    )
-                if out is not None:
-                    RunDirectory.check_new(out)  # before any work
-                values = parse_defines(defines)
-                pipeline = run_pipeline(load_usable(grammar, values), load_config(config, given))
-                if out is None:
-                    out = Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}"
-                    RunDirectory.check_new(out)
-                load_strategy(pipeline)  # its library is installed, before anything is written
-                for run in range(pipeline.config.runs):  # every run's start is there and finished
-                    start_genomes(pipeline, run)
+                pipeline, out = _new_run(grammar, config, given, defines, out)
             # Everything is checked and the backend loaded before a new run directory is made.
             evaluator = _evaluator(pipeline, _runtime(pipeline, threads), scheduler, dask_local)
             held.callback(evaluator.close)
             if resume is None:
+                values = parse_defines(defines)
                 directory = RunDirectory.create(out, pipeline, defines=values, origin=str(grammar))
                 held.enter_context(_lock(directory.path))
         except (*_INPUT_ERRORS, MissingExtra, ClusterError) as error:
             raise fail(str(error)) from None
         _evolve(directory, evaluator, resumed=resume is not None, quiet=quiet, jsonl=jsonl)
+
+
+def _new_run(
+    grammar: Path | None,
+    config: Path | None,
+    given: dict[str, Any],
+    defines: list[str] | None,
+    out: Path | None,
+) -> tuple[Pipeline, Path]:
+    """A new run's pipeline and directory, all checked (the strategy installed, every run's start
+    there and finished, the directory new) before anything is written."""
+    if grammar is None:
+        raise typer.BadParameter("give a grammar to evolve, or --resume DIR", param_hint="GRAMMAR")
+    if out is not None:
+        RunDirectory.check_new(out)  # before any work
+    pipeline = run_pipeline(load_usable(grammar, parse_defines(defines)), load_config(config, given))
+    if out is None:
+        out = Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}"
+        RunDirectory.check_new(out)
+    load_strategy(pipeline)  # its library is installed, before anything is written
+    for run in range(pipeline.config.runs):  # every run's start is there and finished
+        start_genomes(pipeline, run)
+    return pipeline, out
 
 
 def _evolve(

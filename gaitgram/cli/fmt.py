@@ -6,13 +6,14 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.console import Console
 
-from gaitgram.cli.output import human, plural, print_source_error, unified_diff
+from gaitgram.analysis.files import rewrite
+from gaitgram.analysis.report import human, plural
+from gaitgram.cli.common import err, print_error, print_source_error
 from gaitgram.cli.stdout import write_bytes
-from gaitgram.fileio import OutputError, check_rewritable, write_output
+from gaitgram.language.edits import unified_diff
 from gaitgram.language.formatter import FormatError, FormatRefused, format_text
-from gaitgram.language.source import SourceError, decode_source, describe_os_error, encode_as_read, read_bytes
+from gaitgram.language.source import SourceError, decode_source, encode_as_read, read_bytes
 
 
 def command(
@@ -29,7 +30,6 @@ def command(
     Exit status: 0 done (or nothing to change), 1 with --check/--diff when a file would change or
     a file has syntax errors, 2 when a file cannot be read or written.
     """
-    err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
     changed = unchanged = refused = failed = 0
     for path in files:
         try:
@@ -38,7 +38,7 @@ def command(
             formatted = format_text(source)
         except SourceError as error:
             failed += 1
-            print_source_error(err, error)
+            print_source_error(error)
             continue
         except FormatRefused as refusal:
             refused += 1
@@ -50,7 +50,7 @@ def command(
             continue
         except FormatError as error:
             failed += 1
-            err.print(f"error: {error}", style="bold red")
+            print_error(str(error))
             continue
         # The formatter reads and writes universal newlines; the file keeps its own line breaks
         # and byte order mark, so a CRLF file stays CRLF and the diff shows only the layout.
@@ -62,18 +62,11 @@ def command(
             write_bytes(unified_diff(str(path), data, written))
         elif check:
             err.print(f"would reformat {path}")
+        elif (not_written := rewrite(path, written)) is not None:
+            failed += 1
+            print_error(not_written)
+            continue
         else:
-            try:
-                check_rewritable(path)  # a regular file, not read-only
-                write_output(path, written)
-            except OutputError as error:
-                failed += 1
-                err.print(f"error: {error}", style="bold red")
-                continue
-            except OSError as error:
-                failed += 1
-                err.print(f"error: cannot write {path}: {describe_os_error(error)}", style="bold red")
-                continue
             err.print(f"reformatted {path}")
         changed += 1
 

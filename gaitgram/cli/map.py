@@ -10,7 +10,7 @@ import typer
 from rich.console import Console
 
 from gaitgram import jsonio
-from gaitgram.cli.common import err, load_usable, read_genome
+from gaitgram.cli.common import err, fail, load_usable, read_genome
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper, python_filter
 from gaitgram.ge.visualise import GraphvizMissing, TreeTooLarge, check_derivation_size, render_tree
@@ -54,8 +54,7 @@ def command(
         try:
             rendered = render_tree(derivation, tree.value)
         except GraphvizMissing as missing:
-            err.print(f"error: {missing}", style="bold red")
-            raise typer.Exit(2) from None
+            raise fail(str(missing)) from None
         except TreeTooLarge as refusal:
             _refuse_tree(refusal, drawn=tree is not None)
     if as_json:
@@ -83,5 +82,4 @@ def command(
 
 def _refuse_tree(refusal: TreeTooLarge, *, drawn: bool) -> NoReturn:
     hint = "use a shorter genome, fewer --max-wraps or a --max-depth" + (", or no --tree" if drawn else "")
-    err.print(f"error: {refusal}; {hint}", style="bold red")
-    raise typer.Exit(2)
+    raise fail(f"{refusal}; {hint}")

@@ -8,7 +8,15 @@ from typing import Annotated
 
 import typer
 
-from gaitgram.cli.common import check_output, err, load_usable, read_genome, require_extra, write_or_exit
+from gaitgram.cli.common import (
+    check_output,
+    err,
+    fail,
+    load_usable,
+    read_genome,
+    require_extra,
+    write_or_exit,
+)
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper
 
@@ -33,8 +41,7 @@ def command(
     checked = load_usable(grammar, parse_defines(defines))
     derivation = compile_mapper(checked.grammar, codons=codons, max_wraps=max_wraps).map(codon_values)
     if not derivation.valid:
-        err.print(f"error: the genome is invalid ({derivation.reason}); nothing to plot", style="bold red")
-        raise typer.Exit(1)
+        raise fail(f"the genome is invalid ({derivation.reason}); nothing to plot", 1)
     from gaitgram.motion.plot import curves_figure
     from gaitgram.seed import load_seed
 

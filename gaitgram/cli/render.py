@@ -11,11 +11,19 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from gaitgram import fileio
-from gaitgram.cli.common import check_output, err, write_all_or_exit
+from gaitgram.cli.common import check_output, err, fail, write_all_or_exit
 from gaitgram.cli.options import Defines, Walk
-from gaitgram.cli.selection import SelectedGait, SelectionError, select_gait
+from gaitgram.cli.selection import (
+    Codons,
+    GenomeCodons,
+    GenomeFile,
+    Grammar,
+    MaxWraps,
+    SelectedGait,
+    SelectionError,
+    select_gait,
+)
 from gaitgram.extras import MissingExtra
-from gaitgram.ge import CodonMode
 from gaitgram.pipeline import PipelineError
 
 if TYPE_CHECKING:
@@ -28,62 +36,58 @@ if TYPE_CHECKING:
 SEED = "seed"
 
 
-def fail(message: str, code: int = 2) -> typer.Exit:
-    err.print(f"error: {message}", style="bold red", markup=False)
-    return typer.Exit(code)
+_Output = Annotated[
+    Path,
+    typer.Option(
+        "--output",
+        "-o",
+        help="The animation to write, by its suffix: walk.gif, or walk.mp4 (pip install 'gaitgram[video]').",
+    ),
+]
+_Run = Annotated[
+    Path | None,
+    typer.Option("--run", help="Render with this run directory's own pipeline; by default its best gait."),
+]
+_Generation = Annotated[
+    int | None,
+    typer.Option(min=0, help="Show the gait as in this generation's joint freedom (default: the last)."),
+]
+_Config = Annotated[
+    Path | None,
+    typer.Option("--config", "-c", help="A run.toml: codons, backend settings (not with --run)."),
+]
+_Compare = Annotated[
+    str | None,
+    typer.Option(
+        "--compare",
+        metavar="seed|BODY|DIR",
+        help="Show a second gait beside this one, in step: 'seed' (the bundled walk seed, on the "
+        "same horse and settings), a body (the same gait on it, its frequency scaled by dynamic "
+        "similarity: shetland, pony, horse, draft) or a run directory (its best gait, through its "
+        "own pipeline; ./seed or ./draft for a directory of that name).",
+    ),
+]
+_Strip = Annotated[
+    Path | None,
+    typer.Option(
+        help="Also write a PNG strip of frames (default: OUTPUT with .png); with --compare, the "
+        "second gait's strip below."
+    ),
+]
 
 
 def command(
-    output: Annotated[
-        Path,
-        typer.Option(
-            "--output",
-            "-o",
-            help="The animation to write, by its suffix: walk.gif, or walk.mp4 (pip install "
-            "'gaitgram[video]').",
-        ),
-    ],
-    grammar: Annotated[Path | None, typer.Argument(help="The grammar (not with --run).")] = None,
-    run: Annotated[
-        Path | None,
-        typer.Option(
-            "--run", help="Render with this run directory's own pipeline; by default its best gait."
-        ),
-    ] = None,
-    genome: Annotated[str | None, typer.Option(help="Codons, for example 12,7,301.")] = None,
-    genome_file: Annotated[
-        Path | None, typer.Option(help="Read the codons from a file; - for standard input.")
-    ] = None,
-    generation: Annotated[
-        int | None,
-        typer.Option(min=0, help="Show the gait as in this generation's joint freedom (default: the last)."),
-    ] = None,
-    config: Annotated[
-        Path | None,
-        typer.Option("--config", "-c", help="A run.toml: codons, backend settings (not with --run)."),
-    ] = None,
-    codons: Annotated[
-        CodonMode | None, typer.Option(help="Codon consumption, lazy or eager (default lazy).")
-    ] = None,
-    max_wraps: Annotated[int | None, typer.Option(min=0, help="Wraps allowed (default 3).")] = None,
-    compare: Annotated[
-        str | None,
-        typer.Option(
-            "--compare",
-            metavar="seed|BODY|DIR",
-            help="Show a second gait beside this one, in step: 'seed' (the bundled walk seed, on the "
-            "same horse and settings), a body (the same gait on it, its frequency scaled by dynamic "
-            "similarity: shetland, pony, horse, draft) or a run directory (its best gait, through its "
-            "own pipeline; ./seed or ./draft for a directory of that name).",
-        ),
-    ] = None,
-    strip: Annotated[
-        Path | None,
-        typer.Option(
-            help="Also write a PNG strip of frames (default: OUTPUT with .png); with --compare, the "
-            "second gait's strip below."
-        ),
-    ] = None,
+    output: _Output,
+    grammar: Grammar = None,
+    run: _Run = None,
+    genome: GenomeCodons = None,
+    genome_file: GenomeFile = None,
+    generation: _Generation = None,
+    config: _Config = None,
+    codons: Codons = None,
+    max_wraps: MaxWraps = None,
+    compare: _Compare = None,
+    strip: _Strip = None,
     fps: Annotated[int, typer.Option(min=1, max=60, help="Frames per second of the animation.")] = 25,
     force: Annotated[bool, typer.Option("--force", help="Overwrite existing output files.")] = False,
     walk: Walk = False,
@@ -97,17 +101,7 @@ def command(
     by side, each labelled, for example a run's best beside the seed it started from.
     """
     os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is imported
-    from gaitgram.backends.mujoco_horse.render import RenderError, require_writers
-
-    try:
-        require_writers(output)  # the format from the suffix, and its extra: before any work
-    except (RenderError, MissingExtra) as error:
-        raise fail(str(error)) from None
-    strip = strip or output.with_suffix(".png")
-    check_output(output, force=force, flag="-o")
-    check_output(strip, force=force, flag="--strip")
-    if not fileio.is_stream(strip) and os.path.realpath(strip) == os.path.realpath(output):
-        raise fail(f"--strip {strip} is the animation's own file; give the strip another name")
+    strip = _check_outputs(output, strip, force)
     overrides = {"codons": codons.value if codons is not None else None, "max_wraps": max_wraps}
     try:
         chosen = select_gait(
@@ -121,23 +115,56 @@ def command(
             defines=defines,
             walk=walk,
         )
-        body = compare if compare in (chosen.pipeline.spec.bodies or {}) else None
-        other = None if compare in (None, SEED) or body is not None else _best_of(Path(compare))
+        shown, beside = _gaits(chosen, compare)
     except SelectionError as error:
         raise fail(str(error)) from None
+    animation, movie, pictures = _render(output, fps, shown, beside)
+    write_all_or_exit([(output, movie), (strip, pictures)])
+    what = chosen.describe + (f", beside {beside.label}" if beside is not None else "")
+    err.print(f"wrote {output} ({len(animation)} frames) and {strip}; {what}", markup=False)
+
+
+def _check_outputs(output: Path, strip: Path | None, force: bool) -> Path:
+    """Refuse, before any work, outputs that cannot be written, and an animation format whose extra
+    is missing; the strip's path (by default the animation's, with .png)."""
+    from gaitgram.backends.mujoco_horse.render import RenderError, require_writers
+
+    try:
+        require_writers(output)  # the format from the suffix, and its extra: before any work
+    except (RenderError, MissingExtra) as error:
+        raise fail(str(error)) from None
+    strip = strip or output.with_suffix(".png")
+    check_output(output, force=force, flag="-o")
+    check_output(strip, force=force, flag="--strip")
+    if not fileio.is_stream(strip) and os.path.realpath(strip) == os.path.realpath(output):
+        raise fail(f"--strip {strip} is the animation's own file; give the strip another name")
+    return strip
+
+
+def _gaits(chosen: SelectedGait, compare: str | None) -> tuple[_Gait, _Gait | None]:
+    """The chosen gait and, with ``--compare``, the one to show beside it (exit 2 if either is not
+    scored by the mujoco-horse backend)."""
+    body = compare if compare in (chosen.pipeline.spec.bodies or {}) else None
+    other = None if compare in (None, SEED) or body is not None else _best_of(Path(compare))
     for gait in (chosen, other):
         if gait is not None and gait.pipeline.backend != "mujoco-horse":
             backend = gait.pipeline.backend
             raise fail(f"render draws the mujoco-horse backend; {gait.describe} is scored by {backend!r}")
     shown = _Gait.of(chosen)
     if compare is None:
-        beside = None
-    elif body is not None:
-        beside = shown.on(body, chosen)
-    else:
-        beside = _Gait.of(other) if other is not None else _Gait.seed(chosen)
+        return shown, None
+    if body is not None:
+        return shown, shown.on(body, chosen)
+    return shown, _Gait.of(other) if other is not None else _Gait.seed(chosen)
 
+
+def _render(
+    output: Path, fps: int, shown: _Gait, beside: _Gait | None
+) -> tuple[list[np.ndarray], bytes, bytes]:
+    """The animation's frames, the animation encoded as ``output``'s suffix says, and the strip;
+    the evaluators closed."""
     from gaitgram.backends.mujoco_horse.render import (
+        RenderError,
         animation_format,
         encode_animation,
         labelled,
@@ -161,23 +188,12 @@ def command(
         shown.close()
         if beside is not None:
             beside.close()
-    write_all_or_exit([(output, movie), (strip, pictures)])
-    what = chosen.describe + (f", beside {beside.label}" if beside is not None else "")
-    err.print(f"wrote {output} ({len(animation)} frames) and {strip}; {what}", markup=False)
+    return animation, movie, pictures
 
 
 def _best_of(path: Path) -> SelectedGait:
     """``--compare DIR``: the run directory's best gait, through its own pipeline."""
-    return select_gait(
-        run=path,
-        grammar=None,
-        genome=None,
-        genome_file=None,
-        generation=None,
-        config=None,
-        overrides={},
-        defines=None,
-    )
+    return select_gait(run=path)
 
 
 @dataclass

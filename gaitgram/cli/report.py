@@ -2,66 +2,73 @@
 
 from __future__ import annotations
 
+import functools
 import os
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from gaitgram.cli.common import check_output, err, require_extra
+from gaitgram.cli.common import check_output, err, fail, require_extra
 from gaitgram.study.gallery import GalleryError
 from gaitgram.study.records import ReportError
 from gaitgram.study.report import make_report, watch_report
 
+_Directories = Annotated[
+    list[Path],
+    typer.Argument(
+        help="Study directories of `gaitgram study`, or run directories of `gaitgram evolve` (each one arm).",
+        show_default=False,
+    ),
+]
+_Out = Annotated[Path, typer.Option("--out", "-o", help="Where to write the report.")]
+_Force = Annotated[bool, typer.Option("--force", help="Overwrite an existing report.")]
+_Gaits = Annotated[
+    int,
+    typer.Option(
+        min=0,
+        help="Animate each arm's best walk, and this many gaits per nsga2 or map-elites arm: "
+        "trade-offs spread along the front, repertoire cells spread along the first descriptor "
+        "(mujoco-horse; slow).",
+    ),
+]
+_Assess = Annotated[
+    bool,
+    typer.Option(
+        "--assess",
+        help="First measure each run's best gait beside the real walks and under disturbances "
+        "where not yet measured (mujoco-horse; simulation, kept in run-NNN/assessment.json of the "
+        "run directories; reports read it from there).",
+    ),
+]
+_Watch = Annotated[
+    bool,
+    typer.Option(
+        "--watch",
+        help="Follow a study still running: report the runs finished so far, again each time "
+        "another finishes, until all have (report.html reloads itself meanwhile); Ctrl-C stops.",
+    ),
+]
+_Interval = Annotated[
+    float, typer.Option(min=1.0, help="With --watch: seconds between looks for newly finished runs.")
+]
+_Cell = Annotated[
+    list[str] | None,
+    typer.Option(
+        metavar="I,J", help="Animate the best gait of this repertoire cell (repeatable; see archive-*.png)."
+    ),
+]
+
 
 def command(
-    directories: Annotated[
-        list[Path],
-        typer.Argument(
-            help="Study directories of `gaitgram study`, or run directories of `gaitgram evolve` "
-            "(each one arm).",
-            show_default=False,
-        ),
-    ],
-    out: Annotated[Path, typer.Option("--out", "-o", help="Where to write the report.")] = Path("report"),
-    force: Annotated[bool, typer.Option("--force", help="Overwrite an existing report.")] = False,
-    gaits: Annotated[
-        int,
-        typer.Option(
-            min=0,
-            help="Animate each arm's best walk, and this many gaits per nsga2 or map-elites arm: "
-            "trade-offs spread along the front, repertoire cells spread along the first descriptor "
-            "(mujoco-horse; slow).",
-        ),
-    ] = 0,
-    assess: Annotated[
-        bool,
-        typer.Option(
-            "--assess",
-            help="First measure each run's best gait beside the real walks and under disturbances "
-            "where not yet measured (mujoco-horse; simulation, kept in run-NNN/assessment.json of the "
-            "run directories; reports read it from there).",
-        ),
-    ] = False,
-    watch: Annotated[
-        bool,
-        typer.Option(
-            "--watch",
-            help="Follow a study still running: report the runs finished so far, again each time "
-            "another finishes, until all have (report.html reloads itself meanwhile); Ctrl-C stops.",
-        ),
-    ] = False,
-    interval: Annotated[
-        float,
-        typer.Option(min=1.0, help="With --watch: seconds between looks for newly finished runs."),
-    ] = 30.0,
-    cell: Annotated[
-        list[str] | None,
-        typer.Option(
-            metavar="I,J",
-            help="Animate the best gait of this repertoire cell (repeatable; see archive-*.png).",
-        ),
-    ] = None,
+    directories: _Directories,
+    out: _Out = Path("report"),
+    force: _Force = False,
+    gaits: _Gaits = 0,
+    assess: _Assess = False,
+    watch: _Watch = False,
+    interval: _Interval = 30.0,
+    cell: _Cell = None,
 ) -> None:
     """Tables, statistics and figures over runs, like the paper's and more.
 
@@ -83,28 +90,15 @@ def command(
         os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is imported
         require_extra("PIL", "animations")
     check_output(out, force=False, directory=True, parents=True, flag="-o")  # before reading the runs
+    report = functools.partial(watch_report, interval=interval) if watch else make_report
     try:
-        if watch:
-            written = watch_report(
-                directories,
-                out,
-                interval=interval,
-                force=force,
-                gaits=gaits,
-                chosen=chosen,
-                assess=assess,
-                progress=err.print,
-            )
-        else:
-            written = make_report(
-                directories, out, force=force, gaits=gaits, chosen=chosen, assess=assess, progress=err.print
-            )
+        written = report(
+            directories, out, force=force, gaits=gaits, chosen=chosen, assess=assess, progress=err.print
+        )
     except (ReportError, GalleryError) as error:
-        err.print(f"error: {error}", style="bold red")
-        raise typer.Exit(2) from None
+        raise fail(str(error)) from None
     except OSError as error:
-        err.print(f"error: cannot write the report in {out}: {error.strerror or error}", style="bold red")
-        raise typer.Exit(2) from None
+        raise fail(f"cannot write the report in {out}: {error.strerror or error}") from None
     typer.echo((out / "summary.md").read_text(encoding="utf-8"), nl=False)
     err.print("wrote " + ", ".join(str(p) for p in written))
 

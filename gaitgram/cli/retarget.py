@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, NoReturn
+from typing import Annotated
 
 import typer
 from rich.console import Console
@@ -12,7 +12,7 @@ from rich.table import Table
 
 from gaitgram import jsonio
 from gaitgram.backends.api import Evaluation, Verdict
-from gaitgram.cli.common import err
+from gaitgram.cli.common import fail
 from gaitgram.cli.options import Walk
 from gaitgram.cli.selection import SelectedGait, SelectionError, select_gait
 from gaitgram.evolution.retarget import Retargeted, RetargetError, RunBest, retarget, retarget_runs
@@ -51,7 +51,7 @@ def command(
     """Play a run's best gait on another body: the same joint curves, scored by that body's
     fitness and checked over its horizon. Exit 1 if it is viable under no scaling."""
     if each_run and walk:
-        _fail("--each-run plays each run's best gait; drop --walk or --each-run")
+        raise fail("--each-run plays each run's best gait; drop --walk or --each-run")
     try:
         if each_run:
             directory = RunDirectory.open(run)
@@ -59,21 +59,11 @@ def command(
             results = retarget_runs(directory, to, scalings)
             verdict = directory.pipeline.spec.verdict
         else:
-            chosen = select_gait(
-                run=run,
-                grammar=None,
-                genome=None,
-                genome_file=None,
-                generation=None,
-                config=None,
-                overrides={},
-                defines=None,
-                walk=walk,
-            )
+            chosen = select_gait(run=run, walk=walk)
             scalings = scaling or list(chosen.pipeline.spec.retarget_scalings) or ["froude"]
             played = [retarget(chosen.pipeline, [chosen.genome], chosen.generation, to, s) for s in scalings]
     except (SelectionError, PipelineError, RetargetError, RunDirectoryError) as error:
-        _fail(str(error))
+        raise fail(str(error)) from None
     if each_run:
         _show_runs(run, to, results, verdict, as_json)
         viable = any(e.status.viable for r in results for _, _, e in r.played)
@@ -82,11 +72,6 @@ def command(
         viable = any(p.individuals[0].evaluation.status.viable for p in played)
     if not viable:
         raise typer.Exit(1)
-
-
-def _fail(message: str) -> NoReturn:
-    err.print(f"error: {message}", style="bold red", markup=False)
-    raise typer.Exit(2)
 
 
 def _show_best(run: Path, to: str, chosen: SelectedGait, played: list[Retargeted], as_json: bool) -> None:

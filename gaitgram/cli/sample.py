@@ -11,7 +11,7 @@ import typer
 
 from gaitgram import jsonio
 from gaitgram.analysis.facts import GrammarFacts
-from gaitgram.cli.common import err, load_usable
+from gaitgram.cli.common import fail, load_usable
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper
 from gaitgram.ge.initialisation import (
@@ -56,8 +56,7 @@ def command(
             else:
                 typer.echo(mapped.phenotype)
     except InitialisationError as error:
-        err.print(f"error: {error}", style="bold red")
-        raise typer.Exit(1) from None
+        raise fail(str(error), 1) from None
 
 
 def _trees(

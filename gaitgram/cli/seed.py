@@ -9,7 +9,7 @@ import typer
 from rich.console import Console
 
 from gaitgram import jsonio
-from gaitgram.cli.common import check_output, err, write_or_exit
+from gaitgram.cli.common import check_output, err, fail, write_or_exit
 from gaitgram.cli.options import within
 from gaitgram.language.source import describe_os_error
 from gaitgram.seed import SeedError, load_seed, read_seed_csv
@@ -30,8 +30,7 @@ def _seed(path: Path | None):
     try:
         return read_seed_csv(path) if path is not None else load_seed()
     except SeedError as error:
-        err.print(f"error: {error}", style="bold red")
-        raise typer.Exit(2) from None
+        raise fail(str(error)) from None
 
 
 @app.command("fit")
@@ -48,8 +47,7 @@ def fit(
     try:
         fits = fit_seed(seed, threshold)
     except ValueError as error:
-        err.print(f"error: {error}", style="bold red")
-        raise typer.Exit(2) from None
+        raise fail(str(error)) from None
     out = Console(highlight=False, soft_wrap=True, markup=False)
     for joint, result in fits.items():
         if as_json:
@@ -106,8 +104,7 @@ def grammar(
     try:
         text = write_grammar(style, seed, threshold=threshold, command=command, frequency=frequency)
     except ValueError as error:  # a seed whose curves leave the style no room within the limits
-        err.print(f"error: {error}", style="bold red")
-        raise typer.Exit(2) from None
+        raise fail(str(error)) from None
     if output is None:
         typer.echo(text, nl=False)
         return
@@ -144,16 +141,13 @@ def derive(
             if not path.is_dir() or f.suffix.lower() in (".h5", ".hdf5", ".csv")
         )
     except OSError as error:
-        err.print(f"error: cannot read {error.filename}: {describe_os_error(error)}", style="bold red")
-        raise typer.Exit(2) from None
+        raise fail(f"cannot read {error.filename}: {describe_os_error(error)}") from None
     if not files:
-        err.print(f"error: no .h5 or .csv tracks in {', '.join(map(str, tracks))}", style="bold red")
-        raise typer.Exit(2)
+        raise fail(f"no .h5 or .csv tracks in {', '.join(map(str, tracks))}")
     try:
         summary = summarise(measure(read_clip(f, fps) for f in files))
     except (DlcError, MissingExtra) as error:
-        err.print(f"error: {error}", style="bold red")
-        raise typer.Exit(2) from None
+        raise fail(str(error)) from None
     write_or_exit(output, jsonio.dumps(summary, indent=1) + "\n")
     duty, offsets = summary["duty_factor"], summary["phase_after_left_hind"]
     lands = ", ".join(f"{h} {o['median']:.2f}" for h, o in offsets.items())  # type: ignore[union-attr]

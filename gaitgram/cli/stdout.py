@@ -49,6 +49,13 @@ class _GuardedOutput(io.TextIOWrapper):
             raise OutputFailed(error) from error
 
 
+def write_text(text: str) -> None:
+    """Write machine output (JSON, SARIF) to standard output as it is: a console would measure and
+    wrap every line of it, which costs more than making it."""
+    sys.stdout.write(text)
+    sys.stdout.flush()
+
+
 def write_bytes(data: bytes) -> None:
     """Write ``data`` to standard output as it is: machine output (a diff) whose tabs, ``\r``
     and encoding a console or a text stream would change. Fails as :class:`OutputFailed`, as

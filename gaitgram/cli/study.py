@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
-from gaitgram.cli.common import check_output, err
+from gaitgram.cli.common import check_output, err, fail
 from gaitgram.evolution.distributed import ClusterError, DaskCluster, connect
 from gaitgram.evolution.session import stop_on_interrupt
 from gaitgram.extras import MissingExtra
@@ -25,47 +25,52 @@ from gaitgram.study.runner import (
 )
 from gaitgram.study.spec import ScaleDown, load_study
 
-
-def fail(message: str, code: int = 2) -> typer.Exit:
-    err.print(f"error: {message}", style="bold red", markup=False)
-    return typer.Exit(code)
+_StudyFile = Annotated[Path, typer.Argument(help="The study file (docs/study.md).", show_default=False)]
+_Out = Annotated[
+    Path, typer.Option("--out", "-o", help="The study directory; giving it again continues the study.")
+]
+_Runs = Annotated[int | None, typer.Option(min=1, help="Runs per arm, instead of the file's.")]
+_Generations = Annotated[
+    int | None,
+    typer.Option(
+        min=1,
+        help="Generations of every run, instead of the file's; weight stages and @joint free= "
+        "generations move with it (the same design, shorter).",
+    ),
+]
+_Population = Annotated[
+    int | None, typer.Option(min=2, help="Population of every run; the elite keeps its share of it.")
+]
+_Jobs = Annotated[
+    int | None, typer.Option(min=1, help="Runs at once in local processes (default: one per core).")
+]
+_Threads = Annotated[
+    int | None, typer.Option(min=1, help="Simulation threads per run (default: cores / jobs).")
+]
+_Scheduler = Annotated[
+    str | None,
+    typer.Option(
+        help="Run on the Dask scheduler at this address (tcp://HOST:PORT), one run per task; its "
+        "workers must see the study directory (docs/study.md)."
+    ),
+]
+_DaskLocal = Annotated[
+    int | None, typer.Option(min=1, help="Run on a local Dask cluster of this many workers.")
+]
+_Quiet = Annotated[bool, typer.Option("--quiet", "-q", help="Print only the summary.")]
 
 
 def command(
-    study_file: Annotated[Path, typer.Argument(help="The study file (docs/study.md).", show_default=False)],
-    out: Annotated[
-        Path, typer.Option("--out", "-o", help="The study directory; giving it again continues the study.")
-    ],
-    runs: Annotated[int | None, typer.Option(min=1, help="Runs per arm, instead of the file's.")] = None,
-    generations: Annotated[
-        int | None,
-        typer.Option(
-            min=1,
-            help="Generations of every run, instead of the file's; weight stages and @joint free= "
-            "generations move with it (the same design, shorter).",
-        ),
-    ] = None,
-    population: Annotated[
-        int | None,
-        typer.Option(min=2, help="Population of every run; the elite keeps its share of it."),
-    ] = None,
-    jobs: Annotated[
-        int | None, typer.Option(min=1, help="Runs at once in local processes (default: one per core).")
-    ] = None,
-    threads: Annotated[
-        int | None, typer.Option(min=1, help="Simulation threads per run (default: cores / jobs).")
-    ] = None,
-    scheduler: Annotated[
-        str | None,
-        typer.Option(
-            help="Run on the Dask scheduler at this address (tcp://HOST:PORT), one run per task; its "
-            "workers must see the study directory (docs/study.md)."
-        ),
-    ] = None,
-    dask_local: Annotated[
-        int | None, typer.Option(min=1, help="Run on a local Dask cluster of this many workers.")
-    ] = None,
-    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print only the summary.")] = False,
+    study_file: _StudyFile,
+    out: _Out,
+    runs: _Runs = None,
+    generations: _Generations = None,
+    population: _Population = None,
+    jobs: _Jobs = None,
+    threads: _Threads = None,
+    scheduler: _Scheduler = None,
+    dask_local: _DaskLocal = None,
+    quiet: _Quiet = False,
 ) -> None:
     """Run a study: every arm (grammar, configuration, strategy) for its number of runs.
 

@@ -14,7 +14,7 @@ from rich.console import Console
 from rich.text import Text
 
 from gaitgram import jsonio
-from gaitgram.cli.common import err, load_usable
+from gaitgram.cli.common import fail, load_usable
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper
 from gaitgram.ge.visualise import ascii_tree
@@ -61,8 +61,7 @@ def command(
     try:
         strategy = derivations(checked.grammar, max_depth=max_depth, codons=codons)
     except ValueError as error:
-        err.print(f"error: {error}", style="bold red")
-        raise typer.Exit(1) from None
+        raise fail(str(error), 1) from None
     results = [_run(name, check, strategy, context, examples, seed_value) for name, check in chosen.items()]
     if output_format is OutputFormat.JSON:
         typer.echo(jsonio.dumps(results, indent=1))

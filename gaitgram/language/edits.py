@@ -8,6 +8,9 @@ the text the edits were made for, edits never overlap, and they are applied toge
 
 from __future__ import annotations
 
+import difflib
+import os
+import re
 from collections.abc import Iterable
 
 from gaitgram.diagnostics import Applicability, Fix, TextEdit
@@ -22,6 +25,7 @@ __all__ = [
     "normalized",
     "removal",
     "smallest_edit",
+    "unified_diff",
     "union",
 ]
 
@@ -120,3 +124,19 @@ def smallest_edit(old: str, new: str) -> TextEdit | None:
     start = sum(len(line) for line in before[:head])
     end = len(old) - sum(len(line) for line in before[len(before) - tail :])
     return TextEdit(Span(start, end), "".join(after[head : len(after) - tail]))
+
+
+_BYTE_LINE = re.compile(rb"[^\n]*\n|[^\n]+\Z")
+
+
+def unified_diff(name: str, before: bytes, after: bytes) -> bytes:
+    """The unified diff from ``before`` to ``after``, the bytes of file ``name``, as ``diff -u``
+    writes it: lines end at ``\n`` alone (a ``\r`` and tabs stay in their line), and a last line
+    without one is marked, so ``patch`` applied to the file makes ``after`` exactly."""
+    label = os.fsencode(name)
+    lines = difflib.diff_bytes(
+        difflib.unified_diff, _BYTE_LINE.findall(before), _BYTE_LINE.findall(after), label, label
+    )
+    return b"".join(
+        line if line.endswith(b"\n") else line + b"\n\\ No newline at end of file\n" for line in lines
+    )

@@ -14,9 +14,9 @@ import pytest
 from typer.testing import CliRunner
 
 from conftest import GRAMMARS
+from gaitgram.analysis import files as check_cli  # where check reads, fixes and writes files
 from gaitgram.analysis import fixes
 from gaitgram.cli import app
-from gaitgram.cli import check as check_cli
 
 runner = CliRunner()
 

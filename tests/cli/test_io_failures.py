@@ -422,6 +422,7 @@ def test_map_refuses_trees_too_large_to_draw_before_building_them(tmp_path: Path
 
 def test_sample_prints_each_derivation_as_it_is_made(monkeypatch: pytest.MonkeyPatch) -> None:
     """The first samples are out before the fourth is even made (here: fails to be)."""
+    from gaitgram.cli import sample  # noqa: F401 (imported before the patch: it keeps the real random_tree)
     from gaitgram.ge import initialisation
 
     real = initialisation.random_tree

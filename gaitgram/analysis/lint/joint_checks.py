@@ -9,9 +9,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from difflib import get_close_matches
+from types import ModuleType
 
 from gaitgram.analysis.facts import INFINITE, GrammarFacts, occurrence_bounds
-from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backend_names, get_backend
 from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
 from gaitgram.language.model import Grammar
 
@@ -98,6 +98,14 @@ CODES = (
 )
 
 
+def _registry() -> ModuleType:
+    """The backend registry, imported only for a grammar with joints or a backend: it imports the
+    backend API and so numpy, which checking any other grammar (``gaitgram check``) does without."""
+    from gaitgram.backends import registry
+
+    return registry
+
+
 def joints(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
     seen: dict[str, str] = {}
     for joint in grammar.joints:
@@ -116,7 +124,7 @@ def joints(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
             yield JOINT_WITHOUT_BACKEND(
                 "no @backend: joint names and limits are not checked",
                 grammar.joints[0].span,
-                hint=f"declare the backend, e.g. @backend {next(iter(backend_names()), 'NAME')}",
+                hint=f"declare the backend, e.g. @backend {next(iter(_registry().backend_names()), 'NAME')}",
             )
         return
     where = (
@@ -124,17 +132,18 @@ def joints(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
         if backend_annotation.positional()
         else backend_annotation.span
     )
+    registry = _registry()
     try:
-        backend = get_backend(grammar.backend)
-    except BackendLoadError as error:
+        backend = registry.get_backend(grammar.backend)
+    except registry.BackendLoadError as error:
         yield UNKNOWN_BACKEND(
             f"backend {grammar.backend!r} is installed but fails to load: {error}",
             where,
             hint="reinstall it, or report the problem to its authors",
         )
         return
-    except BackendNotFound:
-        installed = list(backend_names())
+    except registry.BackendNotFound:
+        installed = list(registry.backend_names())
         close = get_close_matches(grammar.backend, installed, n=1, cutoff=0.6)
         yield UNKNOWN_BACKEND(
             f"no backend named {grammar.backend!r} is installed",

@@ -9,7 +9,6 @@ SARIF ``fixes``. Lines and columns are 1-based; columns count Unicode code point
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 from functools import cache
 from importlib.metadata import PackageNotFoundError, metadata
 from pathlib import Path
@@ -18,9 +17,11 @@ from urllib.parse import quote
 
 import gaitgram
 from gaitgram.analysis.catalogue import CODES
-from gaitgram.cli.output import effective_severity
-from gaitgram.diagnostics import Code, Diagnostic, Fix, Severity
+from gaitgram.analysis.report import CheckedFile, effective_severity, machine_json
+from gaitgram.diagnostics import Code, Fix, Severity
 from gaitgram.language.source import SourceError, SourceText, Span
+
+__all__ = ["SCHEMA", "SOURCE_ROOT", "docs_url", "help_uri", "sarif_log", "sarif_report"]
 
 SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
 SOURCE_ROOT = "%SRCROOT%"
@@ -28,13 +29,9 @@ SOURCE_ROOT = "%SRCROOT%"
 _LEVELS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
 
 
-@dataclass(frozen=True, eq=False)
-class CheckedFile:
-    """One file's diagnostics, against the text they were found in."""
-
-    path: str
-    source: SourceText
-    diagnostics: tuple[Diagnostic, ...]
+def sarif_report(checked: list[CheckedFile], unreadable: list[SourceError], *, strict: bool = False) -> str:
+    """``gaitgram check --format sarif``: the log as JSON text."""
+    return machine_json(sarif_log(checked, unreadable, strict=strict))
 
 
 def sarif_log(checked: list[CheckedFile], unreadable: list[SourceError], *, strict: bool = False) -> dict:

@@ -1,20 +1,44 @@
-"""Rendering diagnostics for people (rustc/ruff style) and for programs (JSON)."""
+"""How a check's diagnostics are shown: to people (rustc and ruff style) and to programs (JSON).
+
+The command line prints these (``gaitgram check``, and every command that refuses a grammar with
+errors); SARIF, for code scanning, is :mod:`gaitgram.analysis.sarif`. Machine output is plain
+text to be written as it is, never through a console that would wrap or measure it.
+"""
 
 from __future__ import annotations
 
-import difflib
-import os
-import re
+import json
+from collections.abc import Iterable
+from dataclasses import dataclass
 from typing import Any
 
 from rich.cells import cell_len
-from rich.console import Console
 from rich.text import Text
 
 from gaitgram.diagnostics import Diagnostic, Severity, TextEdit
 from gaitgram.language.source import SourceError, SourceText
 
+__all__ = [
+    "CheckedFile",
+    "as_json",
+    "effective_severity",
+    "human",
+    "json_report",
+    "machine_json",
+    "plural",
+    "source_error",
+]
+
 _STYLES = {Severity.ERROR: "bold red", Severity.WARNING: "bold yellow", Severity.INFO: "bold cyan"}
+
+
+@dataclass(frozen=True, eq=False)
+class CheckedFile:
+    """One file's diagnostics, against the text they were found in."""
+
+    path: str
+    source: SourceText
+    diagnostics: tuple[Diagnostic, ...]
 
 
 def effective_severity(diagnostic: Diagnostic, *, strict: bool) -> Severity:
@@ -50,6 +74,18 @@ def human(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False) -
         out.append(f"{pad} = ", style="blue")
         out.append("hint: ", style="bold")
         out.append(diagnostic.hint + "\n")
+    return out
+
+
+def source_error(error: SourceError) -> Text:
+    """``error: cannot read PATH: why``, and the hint."""
+    out = Text()
+    out.append("error", style="bold red")
+    out.append(f": cannot read {error.path}: {error.message}\n", style="bold")
+    if error.hint:
+        out.append("  = ", style="blue")
+        out.append("hint: ", style="bold")
+        out.append(error.hint + "\n")
     return out
 
 
@@ -97,33 +133,18 @@ def _json_edit(edit: TextEdit, source: SourceText) -> dict[str, Any]:
     }
 
 
-def print_source_error(console: Console, error: SourceError) -> None:
-    """``error: cannot read PATH: why``, and the hint."""
-    out = Text()
-    out.append("error", style="bold red")
-    out.append(f": cannot read {error.path}: {error.message}\n", style="bold")
-    if error.hint:
-        out.append("  = ", style="blue")
-        out.append("hint: ", style="bold")
-        out.append(error.hint + "\n")
-    console.print(out, end="", soft_wrap=True, highlight=False)
+def json_report(checked: Iterable[CheckedFile], *, strict: bool = False) -> str:
+    """``gaitgram check --format json``: every diagnostic of every file, in order, as one array."""
+    records = [as_json(d, found.source, strict=strict) for found in checked for d in found.diagnostics]
+    return machine_json(records)
+
+
+def machine_json(value: Any) -> str:
+    """JSON text of a report, which holds no floats (only text, whole numbers, flags and None):
+    ``allow_nan=False`` would refuse a non-finite one, so :func:`gaitgram.jsonio.dumps`'s walk
+    to replace them, which costs as much as the encoding, is not needed."""
+    return json.dumps(value, indent=2, ensure_ascii=False, allow_nan=False)
 
 
 def plural(count: int, word: str) -> str:
     return f"{count} {word}{'' if count == 1 else 's'}"
-
-
-_BYTE_LINE = re.compile(rb"[^\n]*\n|[^\n]+\Z")
-
-
-def unified_diff(name: str, before: bytes, after: bytes) -> bytes:
-    """The unified diff from ``before`` to ``after``, the bytes of file ``name``, as ``diff -u``
-    writes it: lines end at ``\n`` alone (a ``\r`` and tabs stay in their line), and a last line
-    without one is marked, so ``patch`` applied to the file makes ``after`` exactly."""
-    label = os.fsencode(name)
-    lines = difflib.diff_bytes(
-        difflib.unified_diff, _BYTE_LINE.findall(before), _BYTE_LINE.findall(after), label, label
-    )
-    return b"".join(
-        line if line.endswith(b"\n") else line + b"\n\\ No newline at end of file\n" for line in lines
-    )
