@@ -3,7 +3,9 @@ curve-match problem the evolution, strategy and study tests run."""
 
 from __future__ import annotations
 
+import os
 import signal
+import threading
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -47,6 +49,36 @@ CURVE_TARGETS = {"hip_hind": "7*sin(1*2*PI*t+1.5)", "elbow_fore": "3*sin(2*2*PI*
 #: The targets as the body of a TOML table (``[backend_settings.targets]`` in a run file,
 #: ``[settings.backend_settings.targets]`` in a study file).
 CURVE_TARGETS_TOML = "".join(f'{joint} = "{curve}"\n' for joint, curve in CURVE_TARGETS.items())
+#: A study of the problem (``g.gg``: CURVE_GRAMMAR): three runs of two arms; ``{generations}``
+#: to fill in with ``str.format``.
+CURVE_STUDY = (
+    """\
+title = "tiny"
+runs = 3
+seed = 7
+
+[settings]
+generations = {generations}
+population = 12
+elite = 1
+init_max_depth = 6
+backend = "curve-match"
+
+[settings.backend_settings.targets]
+"""
+    + CURVE_TARGETS_TOML
+    + """
+[[arm]]
+name = "plain"
+grammar = "g.gg"
+
+[[arm]]
+name = "mutant"
+grammar = "g.gg"
+[arm.settings]
+mutation = 0.2
+"""
+)
 
 
 settings.register_profile("ci", deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -66,14 +98,25 @@ def vector_grammar(request: pytest.FixtureRequest) -> Path:
 
 
 @pytest.fixture
-def ctrl_c(monkeypatch: pytest.MonkeyPatch) -> Iterator[Callable[[int], None]]:
-    """``ctrl_c(n)``: a real SIGINT, as Ctrl-C sends, reaches this process once, while a curve-match
-    run in it (an in-process ``gaitgram evolve``) scores generation ``n``. Meanwhile a SIGINT that
-    no handler of gaitgram's catches fails the test where it lands instead of ending the session."""
-    from gaitgram.backends.curve_match import CurveMatch
+def sigint_guard() -> Iterator[None]:
+    """While a test sends itself SIGINTs: one that no handler of gaitgram's catches fails the test
+    where it lands (an AssertionError) instead of ending the test session."""
 
     def unhandled(signum: int, frame: object) -> None:
         raise AssertionError("a SIGINT reached no handler of gaitgram's")
+
+    previous = signal.signal(signal.SIGINT, unhandled)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+@pytest.fixture
+def ctrl_c(monkeypatch: pytest.MonkeyPatch, sigint_guard: None) -> Callable[[int], None]:
+    """``ctrl_c(n)``: a real SIGINT, as Ctrl-C sends, reaches this process once, while a curve-match
+    run in it (an in-process ``gaitgram evolve``) scores generation ``n``."""
+    from gaitgram.backends.curve_match import CurveMatch
 
     def arm(generation: int) -> None:
         real = CurveMatch.evaluate
@@ -88,8 +131,29 @@ def ctrl_c(monkeypatch: pytest.MonkeyPatch) -> Iterator[Callable[[int], None]]:
 
         monkeypatch.setattr(CurveMatch, "evaluate", evaluate)
 
-    previous = signal.signal(signal.SIGINT, unhandled)
+    return arm
+
+
+@pytest.fixture
+def ctrl_c_when(sigint_guard: None) -> Iterator[Callable[[Callable[[], bool]], None]]:
+    """``ctrl_c_when(condition)``: a real SIGINT reaches this process once ``condition()`` holds,
+    polled from a thread until the test ends (for work done in other processes: a study's runs)."""
+    done = threading.Event()
+    watchers: list[threading.Thread] = []
+
+    def watch(condition: Callable[[], bool]) -> None:
+        while not done.wait(0.02):
+            if condition():
+                os.kill(os.getpid(), signal.SIGINT)
+                return
+
+    def arm(condition: Callable[[], bool]) -> None:
+        watchers.append(threading.Thread(target=watch, args=(condition,), daemon=True))
+        watchers[-1].start()
+
     try:
         yield arm
     finally:
-        signal.signal(signal.SIGINT, previous)
+        done.set()
+        for watcher in watchers:
+            watcher.join()
