@@ -149,6 +149,7 @@ def test_render_writes_a_gif_and_a_strip(tmp_path: Path) -> None:
     assert (tmp_path / "walk.png").read_bytes()[:4] == b"\x89PNG"
 
 
+@pytest.mark.slow  # a horse run, then a render
 def test_render_the_best_of_a_run(tmp_path: Path) -> None:
     grammar = Path(__file__).resolve().parents[2] / "grammars" / "sine-walk.gg"
     env = {**os.environ, "MUJOCO_GL": "egl", "COLUMNS": "300"}  # usage errors unwrapped
