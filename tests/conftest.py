@@ -1,8 +1,14 @@
-"""Shared fixtures: where the shared test vectors live, and the bundled grammars."""
+"""Shared fixtures: where the shared test vectors live, the bundled grammars, and the tiny
+curve-match problem the evolution, strategy and study tests run."""
 
 from __future__ import annotations
 
+import os
+import signal
+import threading
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from hypothesis import HealthCheck, settings
@@ -14,6 +20,66 @@ GRAMMARS = ROOT / "grammars"
 
 #: The vectors' GE_RANGE values (vectors/ponyge2/meta.json).
 VECTOR_DEFINES = {"dataset_n_vars": 5, "dataset_n_is": 5, "dataset_n_os": 5}
+
+#: The tiny curve-match problem: two joints, a structural choice (sin or cos) over ranges. The
+#: targets are reachable: their amplitudes, multipliers and phases are on the grammar's grids.
+CURVE_GRAMMAR = """\
+@start <gait>
+<gait> ::= <hip>;<elbow>
+@joint hip_hind
+<hip> ::= <amp>*sin(<k>*2*PI*t+<phase>) | <amp>*cos(<k>*2*PI*t+<phase>)
+@joint elbow_fore
+<elbow> ::= <amp>*sin(<k>*2*PI*t+<phase>)+<amp>
+<amp> ::= int[0..20]
+<k> ::= int[1..3]
+<phase> ::= float[0..3 step 0.5]
+"""
+#: The same curves with no structural choice: one expression of ranges, a parameter vector of 7
+#: coordinates (what CMA-ES searches).
+CURVE_NUMERICAL = """\
+@start <gait>
+<gait> ::= <hip>;<elbow>
+@joint hip_hind
+<hip> ::= int[0..20]*sin(int[1..3]*2*PI*t+float[0..3 step 0.5])
+@joint elbow_fore
+<elbow> ::= int[0..20]*sin(int[1..3]*2*PI*t+float[0..3 step 0.5])+int[0..20]
+"""
+#: The curves the curve-match backend scores against (``backend_settings.targets``).
+CURVE_TARGETS = {"hip_hind": "7*sin(1*2*PI*t+1.5)", "elbow_fore": "3*sin(2*2*PI*t+0.5)+4"}
+#: The targets as the body of a TOML table (``[backend_settings.targets]`` in a run file,
+#: ``[settings.backend_settings.targets]`` in a study file).
+CURVE_TARGETS_TOML = "".join(f'{joint} = "{curve}"\n' for joint, curve in CURVE_TARGETS.items())
+#: A study of the problem (``g.gg``: CURVE_GRAMMAR): three runs of two arms; ``{generations}``
+#: to fill in with ``str.format``.
+CURVE_STUDY = (
+    """\
+title = "tiny"
+runs = 3
+seed = 7
+
+[settings]
+generations = {generations}
+population = 12
+elite = 1
+init_max_depth = 6
+backend = "curve-match"
+
+[settings.backend_settings.targets]
+"""
+    + CURVE_TARGETS_TOML
+    + """
+[[arm]]
+name = "plain"
+grammar = "g.gg"
+
+[[arm]]
+name = "mutant"
+grammar = "g.gg"
+[arm.settings]
+mutation = 0.2
+"""
+)
+
 
 settings.register_profile("ci", deadline=None, suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile("ci")
@@ -29,3 +95,65 @@ def vector_grammars() -> list[Path]:
 @pytest.fixture(params=vector_grammars(), ids=lambda p: p.name)
 def vector_grammar(request: pytest.FixtureRequest) -> Path:
     return request.param
+
+
+@pytest.fixture
+def sigint_guard() -> Iterator[None]:
+    """While a test sends itself SIGINTs: one that no handler of gaitgram's catches fails the test
+    where it lands (an AssertionError) instead of ending the test session."""
+
+    def unhandled(signum: int, frame: object) -> None:
+        raise AssertionError("a SIGINT reached no handler of gaitgram's")
+
+    previous = signal.signal(signal.SIGINT, unhandled)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+@pytest.fixture
+def ctrl_c(monkeypatch: pytest.MonkeyPatch, sigint_guard: None) -> Callable[[int], None]:
+    """``ctrl_c(n)``: a real SIGINT, as Ctrl-C sends, reaches this process once, while a curve-match
+    run in it (an in-process ``gaitgram evolve``) scores generation ``n``."""
+    from gaitgram.backends.curve_match import CurveMatch
+
+    def arm(generation: int) -> None:
+        real = CurveMatch.evaluate
+        sent = False
+
+        def evaluate(self: CurveMatch, batch: Any, **kwargs: Any) -> Any:
+            nonlocal sent
+            if not sent and kwargs.get("generation") == generation:
+                sent = True
+                signal.raise_signal(signal.SIGINT)
+            return real(self, batch, **kwargs)
+
+        monkeypatch.setattr(CurveMatch, "evaluate", evaluate)
+
+    return arm
+
+
+@pytest.fixture
+def ctrl_c_when(sigint_guard: None) -> Iterator[Callable[[Callable[[], bool]], None]]:
+    """``ctrl_c_when(condition)``: a real SIGINT reaches this process once ``condition()`` holds,
+    polled from a thread until the test ends (for work done in other processes: a study's runs)."""
+    done = threading.Event()
+    watchers: list[threading.Thread] = []
+
+    def watch(condition: Callable[[], bool]) -> None:
+        while not done.wait(0.02):
+            if condition():
+                os.kill(os.getpid(), signal.SIGINT)
+                return
+
+    def arm(condition: Callable[[], bool]) -> None:
+        watchers.append(threading.Thread(target=watch, args=(condition,), daemon=True))
+        watchers[-1].start()
+
+    try:
+        yield arm
+    finally:
+        done.set()
+        for watcher in watchers:
+            watcher.join()

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.slow  # building and installing take about 40 s
 ROOT = Path(__file__).resolve().parents[1]
 GRAMMAR = ROOT / "grammars" / "sine-walk.gg"
 #: A sine-walk genome that maps (with wraps) to a gait that stands without falling.

@@ -27,6 +27,7 @@ pytest.importorskip("pre_commit", reason="pre-commit is not installed (pip insta
 if shutil.which("git") is None:
     pytest.skip("git is not installed", allow_module_level=True)
 
+pytestmark = pytest.mark.slow  # two real hook installs, about 30 s
 ROOT = Path(__file__).resolve().parents[1]
 #: Not needed to install the package, and most of the repository's bytes.
 LEFT_OUT = ("docs/results/", "tests/data/")

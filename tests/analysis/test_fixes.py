@@ -266,14 +266,21 @@ rule_lines = st.builds(
 rules = st.lists(rule_lines, min_size=1, max_size=6).map("".join)
 
 
-@settings(max_examples=800, deadline=None)
-@given(rules, st.booleans())
-def test_fixing_reaches_a_fixed_point_so_fixing_again_changes_nothing(text: str, unsafe: bool) -> None:
+def fixing_reaches_a_fixed_point(text: str, unsafe: bool) -> None:
     once = fix_source(SourceText(text), unsafe=unsafe)
     again = fix_source(SourceText(once.text), unsafe=unsafe)
     assert again.applied == (), (once.text, [a.title for a in again.applied])
     assert again.text == once.text
     assert once.converged
+
+
+# 150 texts in the default run, 800 in the slow set.
+test_fixing_reaches_a_fixed_point_so_fixing_again_changes_nothing = settings(max_examples=150, deadline=None)(
+    given(rules, st.booleans())(fixing_reaches_a_fixed_point)
+)
+test_fixing_reaches_a_fixed_point_at_length = pytest.mark.slow(
+    settings(max_examples=800, deadline=None)(given(rules, st.booleans())(fixing_reaches_a_fixed_point))
+)
 
 
 def test_a_fix_refused_in_one_text_is_tried_again_once_others_changed_it() -> None:

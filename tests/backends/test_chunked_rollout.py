@@ -281,6 +281,7 @@ def test_a_non_finite_component_or_fitness_is_never_ok(
 # ---- memory ------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # a large population simulated
 def test_memory_is_bounded_by_a_chunk_not_by_the_population() -> None:
     """Controls and records exist a group of gaits and a chunk of steps at a time: the peak is
     the same for 8 and for 48 gaits, and far below one full-length control array of 48."""

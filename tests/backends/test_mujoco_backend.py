@@ -149,6 +149,7 @@ def test_render_writes_a_gif_and_a_strip(tmp_path: Path) -> None:
     assert (tmp_path / "walk.png").read_bytes()[:4] == b"\x89PNG"
 
 
+@pytest.mark.slow  # a horse run, then a render
 def test_render_the_best_of_a_run(tmp_path: Path) -> None:
     grammar = Path(__file__).resolve().parents[2] / "grammars" / "sine-walk.gg"
     env = {**os.environ, "MUJOCO_GL": "egl", "COLUMNS": "300"}  # usage errors unwrapped
@@ -170,12 +171,14 @@ def test_render_the_best_of_a_run(tmp_path: Path) -> None:
     assert "not a `gaitgram evolve` run directory" in missing.stderr
 
 
-def test_thousands_of_random_free_grammar_phenotypes_are_all_scored() -> None:
+@pytest.mark.parametrize("count", [300, pytest.param(3_000, marks=pytest.mark.slow)])
+def test_thousands_of_random_free_grammar_phenotypes_are_all_scored(count: int) -> None:
     """Fig. 5's free grammar as printed (bare expressions, with / and *) makes wild curves:
     divisions by zero, huge values. None may break a batch. (grammars/free.gg is the tamed
     version that passes `gaitgram test`.)
 
-    A short simulation (one cycle) keeps this to seconds; the code path is the full one.
+    A short simulation (one cycle) keeps this to seconds a batch; the code path is the full one.
+    300 gaits in the default run, 3,000 (three batches) in the slow one.
     """
     from gaitgram.analysis import check
     from gaitgram.ge import compile_mapper
@@ -196,9 +199,9 @@ def test_thousands_of_random_free_grammar_phenotypes_are_all_scored() -> None:
     checked = check(parse(figure_5))
     assert not checked.errors
     mapper = compile_mapper(checked.grammar, max_wraps=0)
-    trees = ramped_population(checked.facts, np.random.default_rng(11), 3_000, max_depth=7)
+    trees = ramped_population(checked.facts, np.random.default_rng(11), count, max_depth=7)
     phenotypes = [m.joints for m in mapper.map_many([t.genome for t in trees])]
-    assert all(phenotypes)  # 3,000 valid derivations: every one a phenotype
+    assert all(phenotypes)  # valid derivations: every one a phenotype
     evaluator = HorseEvaluator(HorseSettings(cycles=1, ramp_seconds=0.1, threads=2))
     statuses: dict[GaitStatus, int] = {}
     try:
@@ -211,7 +214,7 @@ def test_thousands_of_random_free_grammar_phenotypes_are_all_scored() -> None:
                 statuses[result.status] = statuses.get(result.status, 0) + 1
     finally:
         evaluator.close()
-    assert sum(statuses.values()) == 3_000
+    assert sum(statuses.values()) == count
     assert statuses.get(GaitStatus.OK, 0) > 0
     assert statuses.get(GaitStatus.INVALID_MOTION, 0) > 0  # Fig. 5 divides by zero now and then
 

@@ -84,6 +84,7 @@ def test_unknown_backend_is_a_clear_error(tmp_path: Path) -> None:
     assert "Traceback" not in run.stderr
 
 
+@pytest.mark.slow  # a real Dask cluster
 def test_a_lost_dask_worker_is_retried(plugin_env: dict[str, str], tmp_path: Path) -> None:
     pytest.importorskip("distributed", reason="Dask is an optional extra; the dev extra installs it")
     (tmp_path / "g.gg").write_text("<g> ::= <hip>\n@joint hip\n<hip> ::= int[0..20]*sin(2*PI*t)\n")

@@ -57,6 +57,7 @@ def test_render_writes_an_mp4_chosen_by_the_suffix(tmp_path: Path) -> None:
     assert (tmp_path / "walk.png").read_bytes()[:4] == b"\x89PNG"
 
 
+@pytest.mark.slow  # two horse runs and three videos
 def test_a_run_beside_the_seed_and_beside_another_run(tmp_path: Path) -> None:
     pytest.importorskip("imageio_ffmpeg", reason="imageio-ffmpeg is not installed")
     evolved = gaitgram(

@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
+import pytest
 from typer.testing import CliRunner
 
 from conftest import GRAMMARS
@@ -18,6 +19,7 @@ from gaitgram.pipeline import Pipeline
 runner = CliRunner()
 
 
+@pytest.mark.slow  # a horse run, rescored over 30 cycles
 def test_a_runs_walks_stay_walks_over_more_cycles_and_a_longer_horizon(tmp_path: Path) -> None:
     out = tmp_path / "run"
     made = runner.invoke(

@@ -167,9 +167,8 @@ def test_fmt_leaves_files_with_syntax_errors_alone(tmp_path: Path) -> None:
     assert path.read_text() == text
 
 
-@settings(max_examples=150)
-@given(data=st.one_of(st.binary(max_size=200), st.text(max_size=200).map(str.encode)))
-@pytest.mark.parametrize(
+GARBAGE = st.one_of(st.binary(max_size=200), st.text(max_size=200).map(str.encode))
+EVERY_READER = pytest.mark.parametrize(
     "args",
     [
         ["check"],
@@ -180,7 +179,9 @@ def test_fmt_leaves_files_with_syntax_errors_alone(tmp_path: Path) -> None:
         ["fmt", "--check"],
     ],
 )
-def test_garbage_files_never_give_a_traceback(
+
+
+def garbage_never_gives_a_traceback(
     tmp_path_factory: pytest.TempPathFactory, args: list[str], data: bytes
 ) -> None:
     path = tmp_path_factory.mktemp("garbage") / "g.gg"
@@ -190,6 +191,15 @@ def test_garbage_files_never_give_a_traceback(
     assert result.exception is None or isinstance(result.exception, SystemExit), result.exception
     if result.exit_code == 2:
         assert "error:" in result.stderr
+
+
+# 25 files a command in the default run, 150 in the slow set.
+test_garbage_files_never_give_a_traceback = EVERY_READER(
+    settings(max_examples=25)(given(data=GARBAGE)(garbage_never_gives_a_traceback))
+)
+test_garbage_files_never_give_a_traceback_at_length = pytest.mark.slow(
+    EVERY_READER(settings(max_examples=150)(given(data=GARBAGE)(garbage_never_gives_a_traceback)))
+)
 
 
 def test_directories_and_huge_files_get_clear_errors(tmp_path: Path) -> None:

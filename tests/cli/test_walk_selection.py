@@ -22,6 +22,8 @@ from conftest import GRAMMARS
 from gaitgram.cli import app
 
 runner = CliRunner()
+#: Every test here reads the three horse runs the module's fixture makes.
+pytestmark = pytest.mark.slow
 PAPER_WEIGHTS = (
     'backend = "mujoco-horse"\n[backend_settings]\n'
     "weights = { velocity = 1.0, duty_factor = 1.0, stride = 1.0, frequency = 0.0, energy = 1.0 }\n"

@@ -1,4 +1,4 @@
-"""The GE loop: it optimises, it is deterministic, and it survives being killed."""
+"""The GE loop: it optimises, it is deterministic, and it survives being stopped and killed."""
 
 from __future__ import annotations
 
@@ -8,36 +8,31 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
 
+from conftest import CURVE_GRAMMAR, CURVE_TARGETS, CURVE_TARGETS_TOML
 from gaitgram.analysis import check
 from gaitgram.backends.curve_match import CurveMatch
 from gaitgram.cli import app
 from gaitgram.evolution.config import ConfigError, RunConfig, WeightStage, load_config
 from gaitgram.evolution.engine import run_evolution
+from gaitgram.evolution.rundir import RunDirectory
+from gaitgram.evolution.session import run_session
 from gaitgram.language import parse
 from gaitgram.pipeline import Pipeline
 from gaitgram.strategies.registry import run_pipeline
 
 runner = CliRunner()
 
-#: One joint, a reachable target: amplitude 7 and phase 1.5 are on the grammar's grids.
-GRAMMAR = """\
-@start <gait>
-<gait> ::= <hip>;<elbow>
-@joint hip_hind free=3..
-<hip> ::= <amp>*sin(<k>*2*PI*t+<phase>) | <amp>*cos(<k>*2*PI*t+<phase>)
-@joint elbow_fore
-<elbow> ::= <amp>*sin(<k>*2*PI*t+<phase>)+<amp>
-<amp> ::= int[0..20]
-<k> ::= int[1..3]
-<phase> ::= float[0..3 step 0.5]
-"""
-TARGETS = {"hip_hind": "7*sin(1*2*PI*t+1.5)", "elbow_fore": "3*sin(2*2*PI*t+0.5)+4"}
+#: A reachable target (amplitude 7 and phase 1.5 are on the grammar's grids); the hip is frozen
+#: until generation 3.
+GRAMMAR = CURVE_GRAMMAR.replace("@joint hip_hind\n", "@joint hip_hind free=3..\n")
+TARGETS = CURVE_TARGETS
 
 
 def config_file(tmp_path: Path, generations: int = 25, **extra: object) -> Path:
@@ -50,10 +45,9 @@ def config_file(tmp_path: Path, generations: int = 25, **extra: object) -> Path:
         *(f"{k} = {v}" for k, v in extra.items()),
         "",
         "[backend_settings.targets]",
-        *(f'{k} = "{v}"' for k, v in TARGETS.items()),
     ]
     path = tmp_path / "run.toml"
-    path.write_text("\n".join(lines) + "\n")
+    path.write_text("\n".join(lines) + "\n" + CURVE_TARGETS_TOML)
     (tmp_path / "g.gg").write_text(GRAMMAR)
     return path
 
@@ -196,8 +190,88 @@ def _wait_for_generation(path: Path, generation: int, process: subprocess.Popen,
     raise TimeoutError
 
 
-@pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGINT])
-def test_killed_run_resumes_to_the_uninterrupted_result(tmp_path: Path, how: signal.Signals) -> None:
+def session(tmp_path: Path, name: str, *, resume: bool = False, stop_after: tuple[int, int] | None = None):
+    """The runs of the run directory ``name`` (made unless resuming), in-process; ``stop_after``
+    (run, generation): asked to stop once that generation of that run is recorded."""
+    path = tmp_path / name
+    if resume:
+        directory = RunDirectory.open(path)
+    else:
+        config = RunConfig(generations=12, population=20, elite=2, init_max_depth=6, seed=4, runs=2)
+        directory = RunDirectory.create(path, pipeline(config), defines={}, origin="g.gg")
+    recorded: list[tuple[int, int]] = []
+    states = run_session(
+        directory,
+        CurveMatch(TARGETS),
+        resume=resume,
+        on_generation=lambda run, stats: recorded.append((run, stats.generation)),
+        should_stop=lambda: stop_after in recorded,
+    )
+    return states, recorded
+
+
+@pytest.mark.parametrize(
+    "stop_after", [(0, 5), (0, 12), (1, 7)], ids=["mid-run-0", "between-runs", "mid-run-1"]
+)
+def test_a_stopped_session_resumes_to_the_uninterrupted_result(
+    tmp_path: Path, stop_after: tuple[int, int]
+) -> None:
+    """``should_stop`` between generations, as Ctrl-C asks, then ``resume``: every record as if
+    the runs had never stopped (the in-process twin of the kill -9 test below)."""
+    whole, _ = session(tmp_path, "whole")
+    stopped, recorded = session(tmp_path, "stopped", stop_after=stop_after)
+    assert recorded[-1] == stop_after  # it stopped right after the generation it was asked to
+    assert [s.generation for s in stopped] == [12] * stop_after[0] + [stop_after[1]]
+    assert not (tmp_path / "stopped" / "summary.json").exists()  # an unfinished session has no summary
+    resumed, recorded = session(tmp_path, "stopped", resume=True)
+    run, generation = stop_after
+    if generation == 12:  # run 0 had finished: the resume starts run 1 from its generation 0
+        assert recorded[0] == (run + 1, 0)
+    else:
+        assert recorded[0] == (run, generation + 1)
+    assert [s.generation for s in resumed] == [12, 12]
+    for r in (0, 1):
+        assert [i.genome for i in resumed[r].population] == [i.genome for i in whole[r].population]
+        for name in ("stats.csv", "stats.jsonl", "best.json", "checkpoint.json"):
+            assert (tmp_path / "stopped" / f"run-{r:03d}" / name).read_bytes() == (
+                tmp_path / "whole" / f"run-{r:03d}" / name
+            ).read_bytes(), name
+    assert (tmp_path / "stopped" / "summary.json").read_bytes() == (
+        tmp_path / "whole" / "summary.json"
+    ).read_bytes()
+
+
+def test_ctrl_c_stops_after_the_generation_and_the_resume_gives_the_uninterrupted_result(
+    tmp_path: Path, ctrl_c: Callable[[int], None]
+) -> None:
+    """A real SIGINT to an in-process ``gaitgram evolve``: it finishes the generation, says how to
+    continue, exits 130; ``--resume`` ends where the uninterrupted run ends."""
+    config = config_file(tmp_path, generations=30)
+    grammar = str(tmp_path / "g.gg")
+    whole = runner.invoke(app, ["evolve", grammar, "-c", str(config), "-o", str(tmp_path / "whole"), "-q"])
+    assert whole.exit_code == 0, whole.stderr
+    interrupted = tmp_path / "interrupted"
+    ctrl_c(12)
+    stopped = runner.invoke(app, ["evolve", grammar, "-c", str(config), "-o", str(interrupted), "-q"])
+    assert stopped.exit_code == 130, stopped.stderr
+    assert f"--resume {interrupted}" in stopped.stderr
+    assert (
+        json.loads((interrupted / "run-000" / "checkpoint.json").read_text())["checkpoint"]["generation"]
+        == 12
+    )
+    assert not (interrupted / "summary.json").exists()
+    resumed = runner.invoke(app, ["evolve", "--resume", str(interrupted), "-q"])
+    assert resumed.exit_code == 0, resumed.stderr
+    for name in ("stats.csv", "stats.jsonl", "best.json"):
+        assert (interrupted / "run-000" / name).read_text() == (
+            tmp_path / "whole" / "run-000" / name
+        ).read_text()
+    assert (interrupted / "summary.json").read_text() == (tmp_path / "whole" / "summary.json").read_text()
+
+
+@pytest.mark.slow
+def test_a_run_killed_with_kill_9_resumes_to_the_uninterrupted_result(tmp_path: Path) -> None:
+    """The one real kill -9 of ``gaitgram evolve`` (a process, killed at whatever it was doing)."""
     config = config_file(tmp_path, generations=200)
     grammar = str(tmp_path / "g.gg")
     whole = subprocess.run(
@@ -214,11 +288,9 @@ def test_killed_run_resumes_to_the_uninterrupted_result(tmp_path: Path, how: sig
         text=True,
     )
     _wait_for_generation(interrupted / "run-000" / "checkpoint.json", 30, process)
-    os.kill(process.pid, how)
-    _, stderr = process.communicate(timeout=60)
-    if how is signal.SIGINT:  # a clean stop after the current generation, and how to continue
-        assert process.returncode == 130
-        assert f"--resume {interrupted}" in stderr
+    os.kill(process.pid, signal.SIGKILL)
+    process.communicate(timeout=60)
+    assert process.returncode == -signal.SIGKILL
     assert not (interrupted / "summary.json").exists()
     resumed = subprocess.run(
         _cli("evolve", "--resume", str(interrupted), "-q"), capture_output=True, text=True

@@ -17,6 +17,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
+from conftest import CURVE_GRAMMAR, CURVE_TARGETS, CURVE_TARGETS_TOML
 from gaitgram.analysis import check
 from gaitgram.backends.curve_match import CurveMatch
 from gaitgram.cli import app
@@ -28,18 +29,7 @@ from gaitgram.strategies.registry import run_pipeline
 
 runner = CliRunner()
 
-GRAMMAR = """\
-@start <gait>
-<gait> ::= <hip>;<elbow>
-@joint hip_hind
-<hip> ::= <amp>*sin(<k>*2*PI*t+<phase>) | <amp>*cos(<k>*2*PI*t+<phase>)
-@joint elbow_fore
-<elbow> ::= <amp>*sin(<k>*2*PI*t+<phase>)+<amp>
-<amp> ::= int[0..20]
-<k> ::= int[1..3]
-<phase> ::= float[0..3 step 0.5]
-"""
-TARGETS = {"hip_hind": "7*sin(1*2*PI*t+1.5)", "elbow_fore": "3*sin(2*2*PI*t+0.5)+4"}
+GRAMMAR, TARGETS = CURVE_GRAMMAR, CURVE_TARGETS
 
 
 def strict_json(text: str) -> object:
@@ -60,9 +50,9 @@ def write_setup(tmp_path: Path, grammar: str = GRAMMAR, **keys: object) -> tuple
         'backend = "curve-match"',
     ]
     lines += [f"{k} = {json.dumps(v)}" for k, v in keys.items()]
-    lines += ["", "[backend_settings.targets]", *(f'{k} = "{v}"' for k, v in TARGETS.items())]
+    lines += ["", "[backend_settings.targets]"]
     config = tmp_path / "run.toml"
-    config.write_text("\n".join(lines) + "\n")
+    config.write_text("\n".join(lines) + "\n" + CURVE_TARGETS_TOML)
     path = tmp_path / "g.gg"
     path.write_text(grammar)
     return path, config

@@ -1,16 +1,14 @@
 """Search strategies on the cheap curve-match backend: each one improves on its initial population,
-is deterministic for a seed, and resumes after kill -9 to the uninterrupted result; NSGA-II keeps a
-non-dominated front, MAP-Elites a repertoire with the best gait of each cell; CMA-ES refuses a
-grammar with structural choices."""
+is deterministic for a seed, and resumes after a stop or a kill to the uninterrupted result;
+NSGA-II keeps a non-dominated front, MAP-Elites a repertoire with the best gait of each cell;
+CMA-ES refuses a grammar with structural choices."""
 
 from __future__ import annotations
 
 import json
-import os
-import signal
 import subprocess
 import sys
-import time
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -19,6 +17,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from conftest import CURVE_GRAMMAR, CURVE_NUMERICAL, CURVE_TARGETS, CURVE_TARGETS_TOML
 from gaitgram.analysis import check
 from gaitgram.backends.api import GaitStatus
 from gaitgram.backends.curve_match import CurveMatch
@@ -36,27 +35,10 @@ from gaitgram.strategies.registry import run_pipeline
 runner = CliRunner()
 
 #: Structural choices (sin or cos) over ranges: GE, random, NSGA-II and MAP-Elites search it.
-STRUCTURAL = """\
-@start <gait>
-<gait> ::= <hip>;<elbow>
-@joint hip_hind
-<hip> ::= <amp>*sin(<k>*2*PI*t+<phase>) | <amp>*cos(<k>*2*PI*t+<phase>)
-@joint elbow_fore
-<elbow> ::= <amp>*sin(<k>*2*PI*t+<phase>)+<amp>
-<amp> ::= int[0..20]
-<k> ::= int[1..3]
-<phase> ::= float[0..3 step 0.5]
-"""
+STRUCTURAL = CURVE_GRAMMAR
 #: One expression, ranges only: a parameter vector of 7 coordinates, for CMA-ES.
-NUMERICAL = """\
-@start <gait>
-<gait> ::= <hip>;<elbow>
-@joint hip_hind
-<hip> ::= int[0..20]*sin(int[1..3]*2*PI*t+float[0..3 step 0.5])
-@joint elbow_fore
-<elbow> ::= int[0..20]*sin(int[1..3]*2*PI*t+float[0..3 step 0.5])+int[0..20]
-"""
-TARGETS = {"hip_hind": "7*sin(1*2*PI*t+1.5)", "elbow_fore": "3*sin(2*2*PI*t+0.5)+4"}
+NUMERICAL = CURVE_NUMERICAL
+TARGETS = CURVE_TARGETS
 DESCRIPTORS = [
     {"name": "rms_hip_hind", "low": 0.0, "high": 12.0, "bins": 6},
     {"name": "rms_elbow_fore", "low": 0.0, "high": 12.0, "bins": 6},
@@ -166,7 +148,7 @@ def test_a_kill_between_the_state_and_the_checkpoint_resumes_exactly(
     )
 
 
-# ---- kill -9 through the command line ---------------------------------------------------------
+# ---- stopped and resumed through the command line ---------------------------------------------
 
 
 def write_inputs(tmp_path: Path, strategy: str, generations: int) -> tuple[Path, Path]:
@@ -179,63 +161,42 @@ def write_inputs(tmp_path: Path, strategy: str, generations: int) -> tuple[Path,
         "init_max_depth = 6",
         'backend = "curve-match"',
         f'strategy = "{strategy}"',
-        "",
-        "[backend_settings.targets]",
-        *(f'{k} = "{v}"' for k, v in TARGETS.items()),
     ]
     if strategy == "map-elites":
         lines += ["", "[strategy_settings]", "descriptors = ["]
         lines += [f'  {{ name = "{d["name"]}", low = 0.0, high = 12.0, bins = 6 }},' for d in DESCRIPTORS]
         lines += ["]"]
+    lines += ["", "[backend_settings.targets]"]
     config = tmp_path / "run.toml"
-    config.write_text("\n".join(lines) + "\n")
+    config.write_text("\n".join(lines) + "\n" + CURVE_TARGETS_TOML)
     return grammar, config
 
 
-def _cli(*args: str) -> list[str]:
-    return [sys.executable, "-m", "gaitgram", *args]
-
-
-def _wait_for_generation(
-    path: Path, generation: int, process: subprocess.Popen, timeout: float = 120
-) -> None:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if path.exists():
-            try:
-                if json.loads(path.read_text())["checkpoint"]["generation"] >= generation:
-                    return
-            except (json.JSONDecodeError, KeyError):
-                pass
-        assert process.poll() is None, "the run ended before it could be interrupted"
-        time.sleep(0.01)
-    raise TimeoutError
+def load_checkpoint_generation(run_dir: Path) -> int:
+    return json.loads((run_dir / "checkpoint.json").read_text())["checkpoint"]["generation"]
 
 
 @pytest.mark.parametrize("strategy", ["random", "cma-es", "nsga2", "map-elites"])
-def test_killed_run_resumes_to_the_uninterrupted_result(tmp_path: Path, strategy: str) -> None:
-    grammar, config = write_inputs(tmp_path, strategy, generations=150)
-    whole = subprocess.run(
-        _cli("evolve", str(grammar), "-c", str(config), "-o", str(tmp_path / "whole"), "-q"),
-        capture_output=True,
-        text=True,
+def test_a_stopped_run_resumes_to_the_uninterrupted_result(
+    tmp_path: Path, strategy: str, ctrl_c: Callable[[int], None]
+) -> None:
+    """Ctrl-C (a real SIGINT) to an in-process ``gaitgram evolve``, then ``--resume``: the strategy's
+    state and settings come back from the run directory, and the records end as the uninterrupted
+    run's. (The real kill -9 of ``evolve`` is in tests/evolution; a kill between the strategy's
+    state and the checkpoint is above.)"""
+    grammar, config = write_inputs(tmp_path, strategy, generations=16)
+    whole = runner.invoke(
+        app, ["evolve", str(grammar), "-c", str(config), "-o", str(tmp_path / "whole"), "-q"]
     )
-    assert whole.returncode == 0, whole.stderr
+    assert whole.exit_code == 0, whole.stderr
     interrupted = tmp_path / "interrupted"
-    process = subprocess.Popen(
-        _cli("evolve", str(grammar), "-c", str(config), "-o", str(interrupted), "-q"),
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    _wait_for_generation(interrupted / "run-000" / "checkpoint.json", 20, process)
-    os.kill(process.pid, signal.SIGKILL)
-    process.communicate(timeout=60)
+    ctrl_c(7)
+    stopped = runner.invoke(app, ["evolve", str(grammar), "-c", str(config), "-o", str(interrupted), "-q"])
+    assert stopped.exit_code == 130, stopped.stderr
+    assert load_checkpoint_generation(interrupted / "run-000") == 7
     assert not (interrupted / "summary.json").exists()
-    resumed = subprocess.run(
-        _cli("evolve", "--resume", str(interrupted), "-q"), capture_output=True, text=True
-    )
-    assert resumed.returncode == 0, resumed.stderr
+    resumed = runner.invoke(app, ["evolve", "--resume", str(interrupted), "-q"])
+    assert resumed.exit_code == 0, resumed.stderr
     assert files_of(interrupted / "run-000") == files_of(tmp_path / "whole" / "run-000")
     assert (interrupted / "summary.json").read_text() == (tmp_path / "whole" / "summary.json").read_text()
 

@@ -8,10 +8,11 @@ import sys
 from pathlib import Path
 
 import pytest
-from strategies.test_strategies import NUMERICAL, STRUCTURAL
 from typer.testing import CliRunner
 
-from conftest import ROOT
+from conftest import CURVE_GRAMMAR as STRUCTURAL
+from conftest import CURVE_NUMERICAL as NUMERICAL
+from conftest import CURVE_TARGETS_TOML, ROOT
 from gaitgram.analysis import check
 from gaitgram.cli import app
 from gaitgram.language import parse
@@ -22,7 +23,8 @@ from gaitgram.study.spec import ScaleDown, StudyError, load_study
 
 runner = CliRunner()
 
-STUDY = """\
+STUDY = (
+    """\
 title = "strategies, tiny"
 runs = 2
 seed = 3
@@ -35,9 +37,9 @@ init_max_depth = 6
 backend = "curve-match"
 
 [settings.backend_settings.targets]
-hip_hind = "7*sin(1*2*PI*t+1.5)"
-elbow_fore = "3*sin(2*2*PI*t+0.5)+4"
-
+"""
+    + CURVE_TARGETS_TOML
+    + """
 [[arm]]
 name = "ge"
 grammar = "structural.gg"
@@ -69,6 +71,7 @@ descriptors = [
   { name = "rms_elbow_fore", low = 0.0, high = 12.0 },
 ]
 """
+)
 
 
 def gaitgram(*args: str) -> subprocess.CompletedProcess[str]:

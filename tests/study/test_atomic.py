@@ -17,9 +17,10 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from study.test_study import GRAMMAR, STUDY
 from typer.testing import CliRunner
 
+from conftest import CURVE_GRAMMAR as GRAMMAR
+from conftest import CURVE_STUDY as STUDY
 from gaitgram.cli import app
 
 runner = CliRunner()

@@ -1,5 +1,5 @@
-"""Studies: a tiny study runs, survives kill -9, resumes to identical results, and its statistics
-are scipy's on the same numbers."""
+"""Studies: a tiny study runs, survives Ctrl-C and kill -9, resumes to identical results, and its
+statistics are scipy's on the same numbers."""
 
 from __future__ import annotations
 
@@ -9,55 +9,25 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy import stats
+from typer.testing import CliRunner
 
+from conftest import CURVE_GRAMMAR, CURVE_STUDY
+from gaitgram.cli import app
 from gaitgram.study.model import build_report
 from gaitgram.study.records import load_study_arms
 from gaitgram.study.spec import ScaleDown, StudyError, load_study
 from gaitgram.study.stats import a12, holm
 
-GRAMMAR = """\
-@start <gait>
-<gait> ::= <hip>;<elbow>
-@joint hip_hind
-<hip> ::= <amp>*sin(<k>*2*PI*t+<phase>) | <amp>*cos(<k>*2*PI*t+<phase>)
-@joint elbow_fore
-<elbow> ::= <amp>*sin(<k>*2*PI*t+<phase>)+<amp>
-<amp> ::= int[0..20]
-<k> ::= int[1..3]
-<phase> ::= float[0..3 step 0.5]
-"""
+runner = CliRunner()
 
-STUDY = """\
-title = "tiny"
-runs = 3
-seed = 7
-
-[settings]
-generations = {generations}
-population = 12
-elite = 1
-init_max_depth = 6
-backend = "curve-match"
-
-[settings.backend_settings.targets]
-hip_hind = "7*sin(1*2*PI*t+1.5)"
-elbow_fore = "3*sin(2*2*PI*t+0.5)+4"
-
-[[arm]]
-name = "plain"
-grammar = "g.gg"
-
-[[arm]]
-name = "mutant"
-grammar = "g.gg"
-[arm.settings]
-mutation = 0.2
-"""
+#: Three runs of two arms of the tiny curve-match problem; ``{generations}`` to fill in.
+GRAMMAR, STUDY = CURVE_GRAMMAR, CURVE_STUDY
 
 
 def write_study(tmp_path: Path, generations: int = 2) -> Path:
@@ -71,7 +41,54 @@ def gaitgram(*args: str, **kwargs) -> subprocess.CompletedProcess[str]:
     return subprocess.run([sys.executable, "-m", "gaitgram", *args], capture_output=True, text=True, **kwargs)
 
 
+def same_study_results(out: Path, whole: Path) -> None:
+    """Every arm's summary and every run's statistics as the uninterrupted study's."""
+    for arm in ("plain", "mutant"):
+        assert (out / "arms" / arm / "summary.json").read_text() == (
+            whole / "arms" / arm / "summary.json"
+        ).read_text()
+        for run in range(3):
+            name = f"arms/{arm}/run-{run:03d}/stats.csv"
+            assert (out / name).read_text() == (whole / name).read_text()
+
+
+def checkpointed(out: Path, generation: int) -> bool:
+    """Whether any run of the study in ``out`` has checkpointed ``generation``."""
+    for path in out.glob("arms/*/run-*/checkpoint.json"):
+        try:
+            if json.loads(path.read_text())["checkpoint"]["generation"] >= generation:
+                return True
+        except (OSError, ValueError, KeyError):  # replaced while read: the next poll reads it
+            pass
+    return False
+
+
+def test_a_study_stopped_with_ctrl_c_and_run_again_gives_the_uninterrupted_results(
+    tmp_path: Path, ctrl_c_when: Callable[[Callable[[], bool]], None]
+) -> None:
+    """A real SIGINT to an in-process ``gaitgram study`` (its runs in worker processes): the runs
+    stop after their generation, it says how to continue, exits 130; the same command again ends
+    where the uninterrupted study ends. (The real kill -9 of ``study`` is the slow test below.)"""
+    study = write_study(tmp_path, generations=40)
+    whole = runner.invoke(app, ["study", str(study), "-o", str(tmp_path / "whole"), "-q", "--jobs", "2"])
+    assert whole.exit_code == 0, whole.stderr
+    out = tmp_path / "stopped"
+    ctrl_c_when(lambda: checkpointed(out, 3))
+    stopped = runner.invoke(app, ["study", str(study), "-o", str(out), "-q", "--jobs", "2"])
+    assert stopped.exit_code == 130, stopped.stderr
+    assert "continue with the same command" in stopped.stderr
+    # Runs are taken run by run across the arms: the last runs had not started, no arm is whole.
+    assert not list(out.glob("arms/*/summary.json"))
+    assert not (out / "arms" / "mutant" / "run-002" / "checkpoint.json").exists()
+    resumed = runner.invoke(app, ["study", str(study), "-o", str(out), "-q", "--jobs", "1"])
+    assert resumed.exit_code == 0, resumed.stderr
+    same_study_results(out, tmp_path / "whole")
+
+
+@pytest.mark.slow
 def test_a_study_killed_and_resumed_gives_the_uninterrupted_results(tmp_path: Path) -> None:
+    """The one real kill -9 of ``gaitgram study``: the study process only, whose workers must die
+    with it and leave every run resumable."""
     study = write_study(tmp_path, generations=150)
     whole = gaitgram("study", str(study), "-o", str(tmp_path / "whole"), "-q", "--jobs", "2")
     assert whole.returncode == 0, whole.stderr
@@ -92,13 +109,7 @@ def test_a_study_killed_and_resumed_gives_the_uninterrupted_results(tmp_path: Pa
     time.sleep(0.5)
     resumed = gaitgram("study", str(study), "-o", str(out), "-q", "--jobs", "1")
     assert resumed.returncode == 0, resumed.stderr
-    for arm in ("plain", "mutant"):
-        assert (out / "arms" / arm / "summary.json").read_text() == (
-            tmp_path / "whole" / "arms" / arm / "summary.json"
-        ).read_text()
-        for run in range(3):
-            name = f"arms/{arm}/run-{run:03d}/stats.csv"
-            assert (out / name).read_text() == (tmp_path / "whole" / name).read_text()
+    same_study_results(out, tmp_path / "whole")
 
 
 def test_the_report_statistics_are_scipys(tmp_path: Path) -> None:

@@ -8,9 +8,11 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from study.test_study import GRAMMAR, STUDY
 from typer.testing import CliRunner
 
+from conftest import CURVE_GRAMMAR as GRAMMAR
+from conftest import CURVE_STUDY as STUDY
+from conftest import CURVE_TARGETS_TOML
 from gaitgram.cli import app
 from gaitgram.evolution.rundir import RunDirectory
 
@@ -103,7 +105,8 @@ def test_a_misspelt_objective_or_descriptor_is_refused_before_anything_runs(
     assert f"did you mean {hint}?" in error
 
 
-WEIGHTED = """\
+WEIGHTED = (
+    """\
 runs = 1
 
 [settings]
@@ -114,9 +117,9 @@ init_max_depth = 6
 backend = "curve-match"
 
 [settings.backend_settings.targets]
-hip_hind = "7*sin(1*2*PI*t+1.5)"
-elbow_fore = "3*sin(2*2*PI*t+0.5)+4"
-
+"""
+    + CURVE_TARGETS_TOML
+    + """
 [[settings.weight_schedule]]
 start = 0
 weights = { rms_hip_hind = 1.0 }
@@ -133,6 +136,7 @@ weights = { rms_hip_hind = 3.0 }
 name = "freedom"
 grammar = "g.gg"
 """
+)
 
 FREEDOM = GRAMMAR.replace("@joint elbow_fore\n", "@joint elbow_fore free=11..31\n")
 
