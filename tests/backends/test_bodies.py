@@ -149,6 +149,28 @@ def test_froude_and_unscaled_frequencies() -> None:
         retarget({}, motion, "draft", "stretched")
 
 
+def test_frequencies_of_another_body_are_played_froude_scaled() -> None:
+    """``frequencies_of = "horse"`` on the Shetland plays a grammar's 0.95 Hz as the horse's 0.95 Hz
+    retargeted: exactly the gait given sqrt(h_horse / h_shetland) times the frequency."""
+    ratio = frequency_ratio("horse", "shetland")
+    seed = load_seed().motion_batch()
+    backend = get_backend("mujoco-horse")
+    scaled = backend.load({"body": "shetland", "frequencies_of": "horse", "threads": 1})
+    plain = backend.load({"body": "shetland", "threads": 1})
+    try:
+        (a,) = scaled.evaluate(replace(seed, frequencies=np.array([0.95])))
+        (b,) = plain.evaluate(replace(seed, frequencies=np.array([0.95 * ratio])))
+    finally:
+        scaled.close()
+        plain.close()
+    assert a.fitness == b.fitness
+    assert a.components == b.components
+    assert a.components["measured_frequency"] == pytest.approx(0.95 * ratio, rel=0.02)
+    with pytest.raises(SettingsError, match=r"frequencies_of.*did you mean 'horse'"):
+        HorseSettings.from_mapping({"body": "pony", "frequencies_of": "hrose"})
+    assert "frequencies_of" not in backend.check_settings({"body": "pony"})  # old fingerprints hold
+
+
 # --- a run's gaits on another body -------------------------------------------------------------
 
 

@@ -142,6 +142,12 @@ class HorseEvaluator:
         self.model = load_model(self.settings.body) if model is None else model
         self.layout: HorseLayout = horse_layout(self.settings.body)
         self.targets: GaitTargets = walk_targets(self.settings.froude, self.layout.hip_height)
+        #: What the grammar's own frequencies are multiplied by on this body (``frequencies_of``).
+        self.frequency_scale = (
+            1.0
+            if self.settings.frequencies_of in (None, self.settings.body or "horse")
+            else math.sqrt(horse_layout(self.settings.frequencies_of).hip_height / self.layout.hip_height)
+        )
         self.threads = self.settings.threads or os.cpu_count() or 1
         self.dt = self.model.opt.timestep
         self.ramp_steps = round(self.settings.ramp_seconds / self.dt)
@@ -220,7 +226,7 @@ class HorseEvaluator:
         """Each gait's cycle frequency (Hz): its own where the grammar evolves it, else the target's."""
         if batch.frequencies is None:
             return np.full(len(rows), self.targets.stride_frequency)
-        chosen = np.asarray(batch.frequencies, dtype=float)[rows]
+        chosen = np.asarray(batch.frequencies, dtype=float)[rows] * self.frequency_scale
         return np.where(np.isfinite(chosen), chosen, self.targets.stride_frequency)
 
     def controls(self, batch: MotionBatch, rows: np.ndarray, cycles: int | None = None) -> np.ndarray:

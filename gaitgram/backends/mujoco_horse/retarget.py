@@ -43,14 +43,18 @@ def retarget(
     if scaling not in SCALINGS:
         raise ValueError(f"no frequency scaling called {scaling!r}; known: {', '.join(SCALINGS)}")
     source = HorseSettings.from_mapping(settings)
-    target = {**settings, "body": body}
+    # The frequencies are given as played on the target body, so its own scaling is dropped.
+    target = {key: value for key, value in settings.items() if key != "frequencies_of"} | {"body": body}
     HorseSettings.from_mapping(target)  # an unknown body is refused here, with the names there are
+    played = motion.frequencies
+    if played is not None and source.frequencies_of is not None:  # as the source run played them
+        played = played * frequency_ratio(source.frequencies_of, source.body)
     if scaling == "froude":
         ratio = frequency_ratio(source.body, body)
-        frequencies = None if motion.frequencies is None else motion.frequencies * ratio
+        frequencies = None if played is None else played * ratio
     else:
         own = walk_targets(source.froude, horse_layout(source.body).hip_height).stride_frequency
-        chosen = np.full(len(motion.angles), np.nan) if motion.frequencies is None else motion.frequencies
+        chosen = np.full(len(motion.angles), np.nan) if played is None else played
         frequencies = np.where(np.isfinite(chosen), chosen, own)
     if frequencies is not None:
         low, high = CYCLE_FREQUENCIES

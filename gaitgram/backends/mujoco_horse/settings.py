@@ -53,6 +53,11 @@ class HorseSettings:
     #: The body walked (bodies.toml); None is the horse, and is not spelt out in a run's settings,
     #: so that runs made before bodies existed keep their fingerprints.
     body: str | None = None
+    #: The body the grammar's own cycle frequencies are meant for (None: this one): they are played
+    #: on ``body`` scaled by dynamic similarity, sqrt(h_of / h_body), as ``retarget --scaling froude``
+    #: plays a gait. A run started from a horse's population on a pony sets "horse", so that its
+    #: first generation is the horse's gaits Froude-scaled; not spelt out when None.
+    frequencies_of: str | None = None
 
     def __post_init__(self) -> None:
         _check(self)
@@ -69,6 +74,7 @@ class HorseSettings:
             "threads",
             "weights",
             "body",
+            "frequencies_of",
         )
         for key in settings:
             if key not in known:
@@ -86,6 +92,12 @@ class HorseSettings:
             if not isinstance(settings["body"], str):
                 raise SettingsError("body", f"must be the name of a body, not {settings['body']!r}")
             values["body"] = settings["body"]
+        if "frequencies_of" in settings:
+            if not isinstance(settings["frequencies_of"], str):
+                raise SettingsError(
+                    "frequencies_of", f"must be the name of a body, not {settings['frequencies_of']!r}"
+                )
+            values["frequencies_of"] = settings["frequencies_of"]
         return cls(**values)
 
     @property
@@ -139,10 +151,11 @@ def weights_table(key: str, value: Any) -> dict[str, float]:
 
 
 def _check(s: HorseSettings) -> None:
-    try:
-        body_named(s.body)
-    except UnknownBody as error:
-        raise SettingsError("body", str(error)) from None
+    for key in ("body", "frequencies_of"):
+        try:
+            body_named(getattr(s, key))
+        except UnknownBody as error:
+            raise SettingsError(key, str(error)) from None
     if not MIN_FROUDE <= s.froude <= MAX_FROUDE:
         raise SettingsError("froude", f"must be in [{MIN_FROUDE}, {MAX_FROUDE}], not {s.froude}")
     if not 0 <= s.ramp_seconds <= 10:
