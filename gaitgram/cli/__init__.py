@@ -13,11 +13,13 @@ from __future__ import annotations
 
 from collections.abc import Iterator, MutableMapping
 from importlib import import_module
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import click
 import typer
 from typer.core import TyperGroup
+
+if TYPE_CHECKING:  # typer carries its own click (0.29 vendors it): a plain install has no click
+    import click
 
 from gaitgram.cli import stdout
 
@@ -53,7 +55,7 @@ def load_command(name: str) -> click.Command:
     return typer.main.get_command(single)
 
 
-class _Commands(MutableMapping[str, click.Command]):
+class _Commands(MutableMapping[str, "click.Command"]):
     """The app's commands by name, each made on first use; iterating gives the names only."""
 
     def __init__(self, made: MutableMapping[str, click.Command]) -> None:
