@@ -74,17 +74,25 @@ def same(incremental: IncrementalParser, text: str) -> Grammar:
     return ours
 
 
-@settings(max_examples=150, deadline=None)
-@given(text=texts, edits=st.lists(edit, max_size=12), full_parse_at=st.sampled_from([0, 64]))
 # A @joint put on the @frequency rule: its GG404 depends on the whole document (found by CI).
 @example(text=SEEDS[1], edits=[(0.97, 0, "\n@joint hip_hind\n")], full_parse_at=0)
-def test_any_edits_give_the_full_parse(text: str, edits, full_parse_at: int) -> None:
+def any_edits_give_the_full_parse(text: str, edits, full_parse_at: int) -> None:
     incremental = IncrementalParser(full_parse_at=full_parse_at)
     same(incremental, text)
     for where, length, inserted in edits:
         start = round(where * len(text))
         text = text[:start] + inserted + text[start + length :]
         same(incremental, text)
+
+
+EDITS = given(text=texts, edits=st.lists(edit, max_size=12), full_parse_at=st.sampled_from([0, 64]))
+# 40 edit sequences (and the example above) in the default run, 150 in the slow set.
+test_any_edits_give_the_full_parse = settings(max_examples=40, deadline=None)(
+    EDITS(any_edits_give_the_full_parse)
+)
+test_any_edits_give_the_full_parse_at_length = pytest.mark.slow(
+    settings(max_examples=150, deadline=None)(EDITS(any_edits_give_the_full_parse))
+)
 
 
 def test_a_5000_rule_document_reads_one_segment_per_edited_rule() -> None:

@@ -47,8 +47,6 @@ def _own(node: Expr) -> object:
     raise AssertionError(node)
 
 
-@settings(max_examples=1500)
-@given(arbitrary_texts)
 @example("")
 @example("2**t")
 @example("sin()")
@@ -63,8 +61,17 @@ def _own(node: Expr) -> object:
 @example("..5")
 @example("٣+t")
 @example("t\u00a0")
-def test_the_parser_agrees_with_the_grammar_on_any_text(text: str) -> None:
+def parser_agrees_with_the_grammar(text: str) -> None:
     assert_same_as_lark(text)
+
+
+# 300 texts (and every example above) in the default run, 1,500 in the slow set.
+test_the_parser_agrees_with_the_grammar_on_any_text = settings(max_examples=300)(
+    given(arbitrary_texts)(parser_agrees_with_the_grammar)
+)
+test_the_parser_agrees_with_the_grammar_on_any_text_at_length = pytest.mark.slow(
+    settings(max_examples=1500)(given(arbitrary_texts)(parser_agrees_with_the_grammar))
+)
 
 
 @settings(max_examples=300)

@@ -158,6 +158,7 @@ def test_the_multi_objective_study_is_the_strategies_ge_arm_but_for_the_strategy
     assert {**two.config.as_dict(), "strategy_settings": {}, "runs": 30} == study.arms[0].config.as_dict()
 
 
+@pytest.mark.slow  # a study of every strategy, then GIFs of chosen gaits
 def test_report_animates_chosen_trade_offs_and_cells(tmp_path: Path) -> None:
     """On the horse, briefly: two GIFs along a front, one of a chosen repertoire cell."""
     config = tmp_path / "run.toml"
