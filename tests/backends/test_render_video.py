@@ -89,6 +89,7 @@ def test_a_run_beside_the_seed_and_beside_another_run(tmp_path: Path) -> None:
     assert not (tmp_path / "x.gif").exists()
 
 
+@pytest.mark.slow  # a horse run and two bodies rendered
 def test_a_run_beside_itself_on_a_smaller_body(tmp_path: Path) -> None:
     """``--compare shetland``: the same gait on the Shetland, Froude-scaled, filmed by its own camera
     (scaled with the body, so the two are drawn at about one size)."""
