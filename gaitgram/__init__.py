@@ -1,10 +1,6 @@
 """gaitgram: grammars for Grammatical Evolution of animal gaits."""
 
-from importlib.metadata import PackageNotFoundError, version
-
 __all__ = ["__version__"]
 
-try:
-    __version__ = version("gaitgram")
-except PackageNotFoundError:  # running from a source tree that was never installed
-    __version__ = "0+unknown"
+#: The one place the version is written (pyproject.toml reads it): no importlib.metadata at start-up.
+__version__ = "0.1.0"

@@ -19,8 +19,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
 from importlib import import_module
-from importlib.metadata import PackageNotFoundError, entry_points, version
 from typing import Generic, TypeVar
+
+from gaitgram import __version__
 
 Spec = TypeVar("Spec")
 
@@ -59,6 +60,8 @@ class Declared:
 
 def package_version(distribution: str) -> str:
     """``"NAME VERSION"`` of an installed distribution, or ``"NAME not installed"`` (cheap: no import)."""
+    from importlib.metadata import PackageNotFoundError, version  # 20 ms: only when asked
+
     try:
         return f"{distribution} {version(distribution)}"
     except PackageNotFoundError:
@@ -91,20 +94,26 @@ class Registry(Generic[Spec]):
 
     @cached_property
     def declared(self) -> dict[str, Declared]:
+        from importlib.metadata import entry_points  # 20 ms: a built-in is found without it
+
         found = {}
         for point in entry_points(group=self.group):
             dist = getattr(point, "dist", None)
             package = f"{dist.name} {dist.version}" if dist is not None else "unknown package"
             found[point.name] = Declared(point.name, point.value, package)
-        ours = package_version("gaitgram")
-        for name, target in self.builtin.items():  # a plug-in cannot take a built-in's name
-            found[name] = Declared(name, target, ours)
+        for name in self.builtin:  # a plug-in cannot take a built-in's name
+            found[name] = self._builtin(name)
         return found
+
+    def _builtin(self, name: str) -> Declared:
+        return Declared(name, self.builtin[name], f"gaitgram {__version__}")
 
     def names(self) -> tuple[str, ...]:
         return tuple(sorted(self.declared))
 
     def find(self, name: str) -> Declared:
+        if name in self.builtin:  # without scanning the installed packages' entry points
+            return self._builtin(name)
         found = self.declared.get(name)
         if found is None:
             raise self.not_found(name, self.kind, self.names())

@@ -156,7 +156,7 @@ def test_the_wheel_carries_every_data_file_of_the_packages(dists: tuple[Path, Pa
     assert expected <= names, sorted(expected - names)
     assert not [name for name in names if name.startswith(("tests/", "docs/", "grammars/"))]
     entry_points = zipfile.ZipFile(dists[1]).read("gaitgram-0.1.0.dist-info/entry_points.txt").decode()
-    assert "gaitgram = gaitgram.cli:main" in entry_points
+    assert "gaitgram = gaitgram.__main__:main" in entry_points
     assert "mujoco-horse = gaitgram.backends.mujoco_horse:BACKEND" in entry_points
     assert "gaitgram-0.1.0.dist-info/licenses/LICENSE" in names
     metadata = zipfile.ZipFile(dists[1]).read("gaitgram-0.1.0.dist-info/METADATA").decode()

@@ -236,6 +236,40 @@ def recursive_rules(cfg: Cfg) -> tuple[bool, ...]:
     return tuple(result)
 
 
+def derived_exactly_once(cfg: Cfg, productive: tuple[bool, ...]) -> frozenset[int]:
+    """Rules that every finishing derivation uses exactly once, found without a search: the start
+    rule when nothing uses it, and a rule used at one place only, in the one usable choice of a
+    rule that is itself derived exactly once. A cheap test before :func:`occurrence_bounds` (one
+    search per joint rule), which it agrees with wherever it answers (a property test keeps them
+    equal); a rule it leaves out may still be derived once."""
+    start = cfg.start
+    if start is None or not productive[start]:
+        return frozenset()
+    usable = [
+        [choice for choice in choices if all(productive[i] for i in choice if isinstance(i, int))]
+        for choices in cfg.choices
+    ]
+    uses: list[list[int]] = [[] for _ in range(len(cfg))]  # each place a rule is used: its user
+    for r, choices in enumerate(usable):
+        for choice in choices:
+            for i in choice:
+                if isinstance(i, int):
+                    uses[i].append(r)
+    if uses[start]:
+        return frozenset()
+    once = {start}
+    frontier = [start]
+    while frontier:
+        r = frontier.pop()
+        if len(usable[r]) != 1:
+            continue
+        for i in usable[r][0]:
+            if isinstance(i, int) and i not in once and uses[i] == [r]:
+                once.add(i)
+                frontier.append(i)
+    return frozenset(once)
+
+
 def occurrence_bounds(cfg: Cfg, target: int, productive: tuple[bool, ...]) -> tuple[float, float]:
     """How many times ``target`` can occur in a derivation from the start: (fewest, most).
 

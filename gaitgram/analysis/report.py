@@ -7,19 +7,20 @@ text to be written as it is, never through a console that would wrap or measure 
 
 from __future__ import annotations
 
-import json
-from collections.abc import Iterable
-from dataclasses import dataclass
+import math
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from json.encoder import encode_basestring  # the C one, as json.dumps(ensure_ascii=False) uses
 from typing import Any
 
 from rich.cells import cell_len
-from rich.text import Text
 
 from gaitgram.diagnostics import Diagnostic, Severity, TextEdit
 from gaitgram.language.source import SourceError, SourceText
 
 __all__ = [
     "CheckedFile",
+    "Styled",
     "as_json",
     "effective_severity",
     "human",
@@ -30,6 +31,21 @@ __all__ = [
 ]
 
 _STYLES = {Severity.ERROR: "bold red", Severity.WARNING: "bold yellow", Severity.INFO: "bold cyan"}
+
+
+@dataclass
+class Styled:
+    """Text in segments, each with a rich style or none: plain data that a terminal colours
+    (:mod:`gaitgram.cli.terminal`) and anything else reads as :attr:`plain`."""
+
+    segments: list[tuple[str, str | None]] = field(default_factory=list)
+
+    def append(self, text: str, style: str | None = None) -> None:
+        self.segments.append((text, style))
+
+    @property
+    def plain(self) -> str:
+        return "".join(text for text, _ in self.segments)
 
 
 @dataclass(frozen=True, eq=False)
@@ -47,12 +63,12 @@ def effective_severity(diagnostic: Diagnostic, *, strict: bool) -> Severity:
     return Severity.ERROR if strict and level is Severity.WARNING else level
 
 
-def human(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False) -> Text:
+def human(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False) -> Styled:
     """``file:line:col: error[GG201] message``, the source line with a caret, and the hint."""
     level = effective_severity(diagnostic, strict=strict)
     start = source.location(diagnostic.span.start)
     end = source.location(diagnostic.span.end)
-    out = Text()
+    out = Styled()
     out.append(f"{source.name}:{start.line}:{start.column}: ", style="bold")
     out.append(f"{level.value}[{diagnostic.code.code}]", style=_STYLES[level])
     out.append(f" {diagnostic.message}\n", style="bold")
@@ -77,9 +93,9 @@ def human(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False) -
     return out
 
 
-def source_error(error: SourceError) -> Text:
+def source_error(error: SourceError) -> Styled:
     """``error: cannot read PATH: why``, and the hint."""
-    out = Text()
+    out = Styled()
     out.append("error", style="bold red")
     out.append(f": cannot read {error.path}: {error.message}\n", style="bold")
     if error.hint:
@@ -140,10 +156,79 @@ def json_report(checked: Iterable[CheckedFile], *, strict: bool = False) -> str:
 
 
 def machine_json(value: Any) -> str:
-    """JSON text of a report, which holds no floats (only text, whole numbers, flags and None):
-    ``allow_nan=False`` would refuse a non-finite one, so :func:`gaitgram.jsonio.dumps`'s walk
-    to replace them, which costs as much as the encoding, is not needed."""
-    return json.dumps(value, indent=2, ensure_ascii=False, allow_nan=False)
+    """JSON text of a report, exactly as ``json.dumps(value, indent=2, ensure_ascii=False,
+    allow_nan=False)`` writes it (a property test holds them equal), three times as fast: the
+    standard library indents with its pure-Python encoder, a third of ``check --format json``'s
+    time on a large grammar. A report holds text, whole numbers, flags, None, lists and dicts
+    with text keys; a non-finite float is refused as ``allow_nan=False`` refuses it."""
+    parts: list[str] = []
+    _write_json(value, "\n", parts)
+    return "".join(parts)
+
+
+def _finite(value: float) -> str:
+    if not math.isfinite(value):
+        raise ValueError(f"Out of range float values are not JSON compliant: {value!r}")
+    return float.__repr__(value)
+
+
+#: How each scalar type is written, looked up by exact type so that leaves cost no call of their
+#: own (subclasses, such as a StrEnum's members, take the slower way, as json.dumps does).
+_SCALARS: dict[type, Callable[[Any], str]] = {
+    str: encode_basestring,
+    int: int.__repr__,
+    bool: lambda flag: "true" if flag else "false",
+    type(None): lambda _: "null",
+    float: _finite,
+}
+
+
+def _write_json(value: Any, newline: str, parts: list[str]) -> None:
+    write = _SCALARS.get(type(value))
+    if write is not None:
+        parts.append(write(value))
+    elif isinstance(value, dict):
+        if not value:
+            parts.append("{}")
+            return
+        inner = newline + "  "
+        opening = "{" + inner
+        for key, item in value.items():
+            if type(key) is not str and not isinstance(key, str):
+                raise TypeError(f"a report's keys are text, not {type(key).__name__}")
+            write = _SCALARS.get(type(item))
+            if write is not None:
+                parts.append(opening + encode_basestring(key) + ": " + write(item))
+            else:
+                parts.append(opening + encode_basestring(key) + ": ")
+                _write_json(item, inner, parts)
+            opening = "," + inner
+        parts.append(newline + "}")
+    elif isinstance(value, list | tuple):
+        if not value:
+            parts.append("[]")
+            return
+        inner = newline + "  "
+        opening = "[" + inner
+        for item in value:
+            write = _SCALARS.get(type(item))
+            if write is not None:
+                parts.append(opening + write(item))
+            else:
+                parts.append(opening)
+                _write_json(item, inner, parts)
+            opening = "," + inner
+        parts.append(newline + "]")
+    elif isinstance(value, bool):  # before int: a bool subclass is a bool
+        parts.append("true" if value else "false")
+    elif isinstance(value, str):
+        parts.append(encode_basestring(value))
+    elif isinstance(value, int):
+        parts.append(int.__repr__(value))
+    elif isinstance(value, float):
+        parts.append(_finite(value))
+    else:
+        raise TypeError(f"Object of type {type(value).__name__} is not JSON serializable")
 
 
 def plural(count: int, word: str) -> str:

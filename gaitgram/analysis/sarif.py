@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import os
 from functools import cache
-from importlib.metadata import PackageNotFoundError, metadata
 from pathlib import Path
 from typing import Any
 from urllib.parse import quote
@@ -142,6 +141,8 @@ def docs_url() -> str:
     """Where ``docs/diagnostics.md`` is: the ``Documentation`` (or ``Repository``) URL the
     installed package declares; else the file in this source tree; else the path in the
     project, relative."""
+    from importlib.metadata import PackageNotFoundError, metadata  # 20 ms: only for SARIF
+
     try:
         urls = metadata("gaitgram").get_all("Project-URL") or []
     except PackageNotFoundError:

@@ -12,9 +12,12 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
-from typing import Any, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 
-from gaitgram.motion.gait import MotionBatch, MotionProblem
+from gaitgram.motion.problems import MotionProblem
+
+if TYPE_CHECKING:
+    from gaitgram.motion.gait import MotionBatch
 
 #: The score of a gait that cannot be judged (fell, flipped, no motion): worse than any real one.
 WORST_FITNESS = 1.0e9

@@ -53,7 +53,8 @@ class BackendSpec:
     * ``runtime_settings`` change speed, never a score (``threads``): they may
       differ when a run is resumed or re-evaluated.
     * ``version`` changes whenever the same gait could score differently (a new
-      model, a new fitness formula, another simulator release).
+      model, a new fitness formula, another simulator release); a function giving it
+      is called only when a run records it, so that declaring stays cheap.
     * ``unviable_fitness(settings, weights)`` is the finite score of a gait that
       cannot be scored (fell, diverged, invalid), under the weights in force
       (None: the backend's own); it must be worse than any viable score. Without
@@ -91,7 +92,7 @@ class BackendSpec:
     check_settings: Callable[[Mapping[str, Any]], Mapping[str, Any]] | None = None
     weight_names: Callable[[Mapping[str, Any]], frozenset[str]] | None = None
     runtime_settings: frozenset[str] = field(default_factory=frozenset)
-    version: str = ""
+    version: str | Callable[[], str] = ""
     unviable_fitness: Callable[[Mapping[str, Any], Mapping[str, float] | None], float] | None = None
     cycle_frequencies: tuple[float, float] | None = None
     objectives: Callable[[Mapping[str, Any]], tuple[str, ...]] | None = None
@@ -146,7 +147,8 @@ def backend_version(name: str) -> str:
     """What a run records of its backend: the providing package's release and the spec's version."""
     package = REGISTRY.find(name).package
     spec = get_backend(name)
-    return f"{package}; {spec.version}" if spec.version else package
+    version = spec.version() if callable(spec.version) else spec.version
+    return f"{package}; {version}" if version else package
 
 
 def get_backend(name: str) -> BackendSpec:

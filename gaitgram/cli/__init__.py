@@ -22,6 +22,7 @@ if TYPE_CHECKING:  # typer carries its own click (0.29 vendors it): a plain inst
     import click
 
 from gaitgram.cli import stdout
+from gaitgram.collector import without_gc
 
 #: Each command, in the order help lists them, and the module that holds it (its ``command``,
 #: or, for a group of subcommands, its ``app``).
@@ -45,6 +46,7 @@ COMMANDS: dict[str, str] = {
 _GROUPS = frozenset({"seed"})
 
 
+@without_gc  # importing a command's module builds objects that live as long as the process
 def load_command(name: str) -> click.Command:
     """The click command ``name``, made from its module, which is imported now."""
     module = import_module(f"gaitgram.cli.{COMMANDS[name]}")

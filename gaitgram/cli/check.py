@@ -7,14 +7,13 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.console import Console
 
 from gaitgram.analysis.files import CheckOptions, FileCheck, Tally, check_files
 from gaitgram.analysis.report import CheckedFile, human, json_report, plural
-from gaitgram.analysis.sarif import sarif_report
 from gaitgram.cli.common import err, print_error, print_source_error
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.cli.stdout import write_bytes, write_text
+from gaitgram.cli.terminal import Terminal
 from gaitgram.language.source import SourceError
 
 
@@ -58,7 +57,7 @@ def command(
         raise typer.BadParameter("--unsafe-fixes needs --fix or --diff", param_hint="--unsafe-fixes")
     if diff and output_format is not OutputFormat.HUMAN:
         raise typer.BadParameter(f"--diff prints a diff, not {output_format.value}", param_hint="--format")
-    out = Console(highlight=False, soft_wrap=True, markup=False)
+    out = Terminal()
     tally = Tally(options)
     checked: list[CheckedFile] = []
     unreadable: list[SourceError] = []
@@ -72,13 +71,15 @@ def command(
     if output_format is OutputFormat.JSON:
         write_text(json_report(checked, strict=strict) + "\n")
     elif output_format is OutputFormat.SARIF:
+        from gaitgram.analysis.sarif import sarif_report  # urllib and the code catalogue: only here
+
         write_text(sarif_report(checked, unreadable, strict=strict) + "\n")
     if output_format is OutputFormat.HUMAN or options.fixing:
         err.print(tally.summary(), style="bold red" if tally.failing else "bold green")
     raise typer.Exit(tally.status)
 
 
-def _show(found: FileCheck, out: Console, output_format: OutputFormat, strict: bool) -> None:
+def _show(found: FileCheck, out: Terminal, output_format: OutputFormat, strict: bool) -> None:
     """What happened to one file: why it could not be read or written, its fixes or their diff,
     and, for people, its problems."""
     if found.unreadable is not None:

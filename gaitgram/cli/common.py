@@ -9,11 +9,11 @@ from pathlib import Path
 from types import ModuleType
 
 import typer
-from rich.console import Console
 
 from gaitgram import fileio
 from gaitgram.analysis import CheckResult, check
 from gaitgram.analysis.report import human, source_error
+from gaitgram.cli.terminal import err
 from gaitgram.extras import MissingExtra, require
 from gaitgram.language import SourceError, parse
 from gaitgram.language.source import (
@@ -23,8 +23,6 @@ from gaitgram.language.source import (
     read_limited,
     read_source,
 )
-
-err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
 
 
 def print_error(message: str) -> None:
@@ -40,7 +38,7 @@ def fail(message: str, code: int = 2) -> typer.Exit:
 
 def print_source_error(error: SourceError) -> None:
     """``error: cannot read PATH: why``, and the hint."""
-    err.print(source_error(error), end="", soft_wrap=True, highlight=False)
+    err.print(source_error(error), end="")
 
 
 def require_extra(module: str, purpose: str) -> ModuleType:

@@ -138,7 +138,7 @@ def _show(chosen: SelectedGait, scored: Individual) -> None:
     if verdict is not None and evaluation.status.viable and not verdict.holds(evaluation):
         missing = ", ".join(verdict.failed_terms(evaluation))
         out.print(f"not a {verdict.label}: {missing}", markup=False)
-    err.print(chosen.describe, markup=False)
+    err.print(chosen.describe)
     if evaluation.detail:
         out.print(evaluation.detail, markup=False)
 

@@ -173,7 +173,7 @@ def _evolve(
         MofNCompleteColumn(),
         TextColumn("best {task.fields[best]}  avg {task.fields[average]}  {task.fields[rate]} evals/s"),
         TimeRemainingColumn(),
-        console=err,
+        console=err.console(),
         disable=quiet or jsonl,
         transient=False,
     )
@@ -207,7 +207,6 @@ def _evolve(
                 on_generation=on_generation,
                 on_restored=lambda path: err.print(
                     f"rewrote {path} from its run's checkpoint (it was missing or disagreed with it)",
-                    markup=False,
                 ),
                 should_stop=should_stop,
             )
@@ -225,13 +224,11 @@ def _evolve(
         err.print(
             f"stopped; continue with: gaitgram evolve --resume {directory.path}",
             style="bold yellow",
-            markup=False,
         )
         raise typer.Exit(130)
     best = min((s.best for s in states), key=lambda i: i.fitness)
     err.print(
         f"best fitness {best.fitness:.6g} ({best.evaluation.status}); run directory {directory.path}",
-        markup=False,
     )
 
 

@@ -121,7 +121,7 @@ def command(
     animation, movie, pictures = _render(output, fps, shown, beside)
     write_all_or_exit([(output, movie), (strip, pictures)])
     what = chosen.describe + (f", beside {beside.label}" if beside is not None else "")
-    err.print(f"wrote {output} ({len(animation)} frames) and {strip}; {what}", markup=False)
+    err.print(f"wrote {output} ({len(animation)} frames) and {strip}; {what}")
 
 
 def _check_outputs(output: Path, strip: Path | None, force: bool) -> Path:

@@ -104,19 +104,15 @@ def command(
         err.print(
             f"rewrote {len(done.restored)} record file(s) that disagreed with their runs' checkpoints: "
             + ", ".join(str(p) for p in done.restored),
-            markup=False,
         )
     unfinished = [t for t in directory.tasks if not directory.finished(t)]
     if unfinished:
-        err.print(
-            f"stopped with {len(unfinished)} run(s) unfinished; continue with the same command", markup=False
-        )
+        err.print(f"stopped with {len(unfinished)} run(s) unfinished; continue with the same command")
         raise typer.Exit(130)
     err.print(
         f"study complete: {len(study.arms)} arms x {study.runs} runs in {out} "
         f"({len(done.results)} run(s) this time); "
         f"report with: gaitgram report {out}",
-        markup=False,
     )
 
 
@@ -133,7 +129,7 @@ def _run(
         MofNCompleteColumn(),
         TextColumn("generations  {task.fields[rate]} evals/s"),
         TimeRemainingColumn(),
-        console=err,
+        console=err.console(),
         disable=quiet,
     )
     started = time.perf_counter()

@@ -3,10 +3,14 @@ language's syntax (the range look-alike finder, the rewrites), so it is written 
 
 from __future__ import annotations
 
+import os
 import re
+import sys
 from functools import cache
 from importlib.resources import files
+from pathlib import Path
 
+import lark
 from lark import Lark, Token, Tree
 
 from gaitgram.language.lexer import GgLexer, KeepScannerTerminals, Scanner
@@ -15,6 +19,23 @@ from gaitgram.language.lexer import GgLexer, KeepScannerTerminals, Scanner
 @cache
 def grammar_text() -> str:
     return files("gaitgram.language").joinpath("gaitgram.lark").read_text(encoding="utf-8")
+
+
+def cache_file(name: str) -> str | bool:
+    """Where lark keeps the analysed parser ``name`` between processes (a third of ``gaitgram
+    check``'s start-up otherwise): the user's own cache directory, never a shared temporary one,
+    since lark stores it as a pickle. Lark checks the grammar's digest and rebuilds a stale or
+    unreadable file; ``False`` (no cache) where there is no writable place."""
+    root = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    directory = Path(root) / "gaitgram"
+    try:
+        directory.mkdir(mode=0o700, parents=True, exist_ok=True)
+    except OSError:
+        return False
+    if not os.access(directory, os.W_OK):
+        return False
+    python = "".join(map(str, sys.version_info[:2]))
+    return str(directory / f"{name}-lark{lark.__version__}-py{python}.parser")
 
 
 @cache
@@ -26,6 +47,7 @@ def document_parser() -> Lark:
         lexer=GgLexer,
         postlex=KeepScannerTerminals(),
         maybe_placeholders=False,
+        cache=cache_file("document"),
     )
 
 
@@ -37,7 +59,9 @@ def scanner() -> Scanner:
 
 @cache
 def range_parser() -> Lark:
-    return Lark(grammar_text(), start="range_spec", parser="lalr", lexer="contextual")
+    return Lark(
+        grammar_text(), start="range_spec", parser="lalr", lexer="contextual", cache=cache_file("range")
+    )
 
 
 @cache

@@ -16,6 +16,7 @@ into diagnostics.
 from __future__ import annotations
 
 import re
+import threading
 from dataclasses import dataclass, replace
 from decimal import Decimal, Inexact, Rounded, localcontext
 from fractions import Fraction
@@ -201,8 +202,29 @@ class RangeProblem:
 # ---- ranges --------------------------------------------------------------------------------
 
 
+#: Ranges read lately, by text: a grammar repeats its ranges (one per joint and term), and an
+#: editor re-reads them at every keystroke. Only small ones are kept, so memory stays small.
+_RECENT: dict[str, tuple[RangeSpec | None, tuple[RangeProblem, ...]]] = {}
+_RECENT_SIZE = 512
+_RECENT_VALUES = 1_000
+_RECENT_LOCK = threading.Lock()  # the language server reads documents on worker threads
+
+
 def parse_range(text: str) -> tuple[RangeSpec | None, list[RangeProblem]]:
     """Read a range's text. Returns the spec (None if unusable) and its problems."""
+    found = _RECENT.get(text)
+    if found is None:
+        spec, problems = _read_range(text)
+        found = spec, tuple(problems)
+        if spec is None or spec.size <= _RECENT_VALUES:
+            with _RECENT_LOCK:
+                if len(_RECENT) >= _RECENT_SIZE:
+                    del _RECENT[next(iter(_RECENT))]  # the oldest
+                _RECENT[text] = found
+    return found[0], list(found[1])
+
+
+def _read_range(text: str) -> tuple[RangeSpec | None, list[RangeProblem]]:
     try:
         tree = range_parser().parse(text)
     except (UnexpectedCharacters, UnexpectedToken, UnexpectedEOF) as exc:

@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
-from enum import StrEnum
 from functools import lru_cache
 
 import numpy as np
@@ -24,17 +23,10 @@ from numpy.typing import NDArray
 
 from gaitgram.language.model import FREQUENCY
 from gaitgram.motion.expression import Motion, MotionStatus, compile_motion, phase_grid
+from gaitgram.motion.problems import MotionProblem
 
 #: Samples per cycle: enough for the 10th harmonic many times over, cheap to build.
 DEFAULT_SAMPLES = 256
-
-
-class MotionProblem(StrEnum):
-    """Why an individual has no usable motion."""
-
-    INVALID_GENOME = "invalid-genome"
-    INVALID_MOTION = "invalid-motion"  # a joint's phenotype does not compile, or divides by zero
-    NON_FINITE = "non-finite"
 
 
 @dataclass(frozen=True, eq=False)

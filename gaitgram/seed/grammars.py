@@ -20,7 +20,7 @@ from gaitgram.analysis.cfg import RuleKind, build_cfg
 from gaitgram.backends.catalogue import JointCatalogue
 from gaitgram.backends.mujoco_horse import CATALOGUE
 from gaitgram.backends.mujoco_horse.bodies import NOMINAL_HIP_HEIGHT
-from gaitgram.backends.mujoco_horse.task import DEFAULT_FROUDE, walk_targets
+from gaitgram.backends.mujoco_horse.targets import DEFAULT_FROUDE, walk_targets
 from gaitgram.language.model import Grammar
 from gaitgram.language.ranges import parse_range
 from gaitgram.motion.expression import Motion, compile_motion, phase_grid

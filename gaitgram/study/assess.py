@@ -17,12 +17,9 @@ finished are left for later (``gaitgram report --watch`` measures them as they f
 from __future__ import annotations
 
 import json
-import math
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from gaitgram import jsonio
 from gaitgram.evolution.checkpoint import load_checkpoint
@@ -180,60 +177,22 @@ def measure(settings: dict[str, Any], batch: Any) -> list[dict[str, Any]]:
 
 
 def _realism(settings: dict[str, Any], batch: Any) -> list[dict[str, Any] | None]:
-    """:func:`~gaitgram.backends.mujoco_horse.realism.assess`, with the window's speed and strides
-    and what Alexander's relations predict at that speed (one simulation)."""
-    from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
-    from gaitgram.backends.mujoco_horse.measures import measure_cycles, window
-    from gaitgram.backends.mujoco_horse.realism import _realism, landmark_curves
-    from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles
-    from gaitgram.backends.mujoco_horse.task import G, duty_factor_for
+    """:func:`~gaitgram.backends.mujoco_horse.realism.assess` as ``assessment.json`` keeps it:
+    the measures with the window's speed and strides and their predictions, the scores, the
+    distance and the curves (one simulation)."""
+    from gaitgram.backends.mujoco_horse.realism import assess
 
-    evaluator = HorseEvaluator(HorseSettings.from_mapping(settings))
-    try:
-        rows = np.arange(len(batch))
-        control = evaluator.controls(batch, rows)
-        states, sensors = evaluator.simulate(control)
-        frequencies = evaluator.frequencies(batch, rows)
-        verdicts = evaluator.score(states, sensors, control, {"velocity": 1.0}, frequencies)
-        recordings = evaluator.recordings(states, sensors, control, frequencies)
-        targets = evaluator.targets
-        found: list[dict[str, Any] | None] = []
-        for g, (verdict, recording) in enumerate(zip(verdicts, recordings, strict=True)):
-            if not verdict.status.viable:
-                found.append(None)
-                continue
-            warmup = warmup_cycles(evaluator.settings.warmup_seconds, recording.frequency)
-            scored = measure_cycles(recording, warmup, warmup + evaluator.scored, evaluator.gap_steps)
-            start, end = recording.cycle_edges(warmup + evaluator.scored)[[warmup, -1]]
-            curves = landmark_curves(evaluator.model, states[g])
-            realism = _realism(scored, recording, curves, int(start), int(end), evaluator.gap_steps)
-            if realism is None:
-                found.append(None)
-                continue
-            means = window(scored)
-            speed = means.velocity
-            froude = speed / math.sqrt(G * targets.hip_height) if speed > 0 else math.nan
-            length = float(targets.stride_at(speed)) if speed > 0 else math.nan
-            found.append(
-                {
-                    "measures": {
-                        **realism.measures,
-                        "speed": speed,
-                        "stride_length": means.stride_length,
-                        "stride_frequency": means.stride_frequency,
-                        "froude": froude,
-                        "predicted_duty_factor": duty_factor_for(froude) if speed > 0 else math.nan,
-                        "predicted_stride_length": length,
-                        "predicted_stride_frequency": speed / length if speed > 0 else math.nan,
-                    },
-                    "scores": realism.scores,
-                    "distance": realism.distance,
-                    "curves": {name: [float(v) for v in curve] for name, curve in realism.curves.items()},
-                }
-            )
-        return found
-    finally:
-        evaluator.close()
+    return [
+        None
+        if realism is None
+        else {
+            "measures": {**realism.measures, **realism.at_speed},
+            "scores": realism.scores,
+            "distance": realism.distance,
+            "curves": {name: [float(v) for v in curve] for name, curve in realism.curves.items()},
+        }
+        for realism in assess(settings, batch)
+    ]
 
 
 def assess_arms(

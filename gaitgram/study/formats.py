@@ -69,7 +69,7 @@ def _markdown_section(section: Section) -> list[str]:
 
 
 def left_aligned(column: Column) -> bool:
-    return column.kind in (Kind.TEXT, Kind.INTERVAL)
+    return column.kind is Kind.TEXT or column.kind.interval
 
 
 def _markdown_table(table: Table) -> list[str]:
@@ -101,6 +101,8 @@ _SUMMARY_CSV = (
     "mean_average_viable",
     "unviable_share",
     "walk_rate",
+    "walk_rate_ci_low",
+    "walk_rate_ci_high",
     "walk_held_rate",
 )
 
@@ -131,6 +133,7 @@ def csv_text(report: StudyReport) -> str:
                 s.mean_average_viable,
                 s.unviable_share,
                 s.walk_rate,
+                *(s.walk_rate_ci or (None, None)),
                 s.walk_held_rate,
             )
             for s in report.summaries
@@ -146,7 +149,7 @@ def section_csv(report: StudyReport) -> dict[str, str]:
             header: list[str] = []
             for column in table.columns:
                 interval = (f"{column.key}_ci_low", f"{column.key}_ci_high")
-                header += [column.key, *interval] if column.kind is Kind.INTERVAL else [column.key]
+                header += [column.key, *interval] if column.kind.interval else [column.key]
             rows = [_flat(table.columns, row) for row in table.rows]
             files[f"{section.name}-{table.name}.csv"] = _csv(header, rows)
     return files
@@ -155,7 +158,10 @@ def section_csv(report: StudyReport) -> dict[str, str]:
 def _flat(columns: Sequence[Column], row: Sequence[Any]) -> list[Any]:
     values: list[Any] = []
     for column, value in zip(columns, row, strict=True):
-        values += list(value) if column.kind is Kind.INTERVAL else [value]
+        if column.kind.interval:
+            values += [None] * 3 if value is None else list(value)
+        else:
+            values.append(value)
     return values
 
 
@@ -195,7 +201,8 @@ def latex(report: StudyReport) -> str:
     g = value_text
     summary = [
         f"{_tex(s.name)} & {s.runs} & {g(s.mean_best)} & {g(s.sd_best)} & {g(s.mean_average)} & "
-        f"{g(s.sd_average)} & {_tex(share_text(s.walk_rate))} & {_tex(share_text(s.walk_held_rate))}"
+        f"{g(s.sd_average)} & {_tex(cell_text(Kind.SHARE_INTERVAL, s.walk_rate_cell))} & "
+        f"{_tex(share_text(s.walk_held_rate))}"
         for s in report.summaries
     ]
     pairs = [
@@ -204,9 +211,10 @@ def latex(report: StudyReport) -> str:
     ]
     lines = [
         *_tabular(
-            "gaitgram study report: final best and average over runs (mean and SD).",
+            "gaitgram study report: final best and average over runs (mean and SD); walk rate "
+            "with Wilson's interval.",
             "lrrrrrrr",
-            "Arm & Runs & Avg.\\ best & SD & Avg.\\ avg. & SD & Walk rate & Walk held",
+            "Arm & Runs & Avg.\\ best & SD & Avg.\\ avg. & SD & Walk rate [95\\,\\% CI] & Walk held",
             summary,
         ),
         *_tabular(

@@ -176,7 +176,7 @@ def _cell(kind: Kind, value: Any, numeric: bool) -> str:
     text = escape(cell_text(kind, value))
     if kind is Kind.TEXT:
         return f"<td>{text}</td>"
-    number = value[0] if kind is Kind.INTERVAL else value
+    number = value[0] if kind.interval and value is not None else value
     key = "" if number is None or (isinstance(number, float) and math.isnan(number)) else repr(float(number))
     return f'<td{_NUM if numeric else ""} data-value="{key}">{text}</td>'
 

@@ -35,7 +35,7 @@ import numpy as np
 
 from gaitgram.strategies.kept import Front, Repertoire
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable
-from gaitgram.study.stats import Comparison, bootstrap_median_ci, compare
+from gaitgram.study.stats import Comparison, bootstrap_median_ci, compare, wilson_interval
 
 # ---- the building blocks of a section --------------------------------------------------------
 
@@ -51,6 +51,12 @@ class Kind(Enum):
     SHARE = "share"  # a share (0..1), in whole percent
     A12 = "a12"  # three decimals
     INTERVAL = "interval"  # (value, low, high): "value [low, high]"
+    SHARE_INTERVAL = "share interval"  # (share, low, high), in whole percent
+
+    @property
+    def interval(self) -> bool:
+        """Whether a value is (value, low, high): CSV writes three columns, HTML sorts by the first."""
+        return self in (Kind.INTERVAL, Kind.SHARE_INTERVAL)
 
 
 def value_text(value: float | None, digits: int = 4) -> str:
@@ -89,6 +95,11 @@ def cell_text(kind: Kind, value: Any) -> str:
     if kind is Kind.INTERVAL:
         middle, low, high = value
         return f"{value_text(middle)} [{value_text(low)}, {value_text(high)}]"
+    if kind is Kind.SHARE_INTERVAL:
+        if value is None:
+            return "n/a"
+        share, low, high = value
+        return f"{share_text(share)} [{share_text(low)}, {share_text(high)}]"
     return value_text(value)
 
 
@@ -249,6 +260,14 @@ class ArmSummary:
     unviable_share: float
     walk_rate: float | None
     walk_held_rate: float | None
+    walks: int | None = None  # runs whose best gait is a walk
+    walk_rate_ci: tuple[float, float] | None = None  # Wilson's 95 % interval
+
+    @property
+    def walk_rate_cell(self) -> tuple[float, float, float] | None:
+        if self.walk_rate is None or self.walk_rate_ci is None:
+            return None
+        return (self.walk_rate, *self.walk_rate_ci)
 
 
 def summarise(arm: ArmRecord) -> ArmSummary:
@@ -268,13 +287,16 @@ def summarise(arm: ArmRecord) -> ArmSummary:
         float(arm.final_unviable_share.mean()),
         arm.walk_rate,
         arm.walk_held_rate,
+        arm.walks,
+        None if arm.walks is None else wilson_interval(arm.walks, len(arm.runs)),
     )
 
 
 SUMMARY_TEXT = (
     "Final generation, over runs. Fitness is minimised. *Average* is the population's mean over "
     "every individual, unviable gaits at their score (the paper's Avg. Avg.); *viable average* "
-    "leaves them out. *Walk rate*: the share of runs whose best gait is a walk; *walk held*: the "
+    "leaves them out. *Walk rate*: the share of runs whose best gait is a walk, with Wilson's 95 % "
+    "interval; *walk held*: the "
     "share whose final population (a `nsga2` run's Pareto front, a `map-elites` run's "
     "repertoire) holds one."
 )
@@ -300,7 +322,7 @@ def summary_table(summaries: Sequence[ArmSummary]) -> Table:
             Column("median_best", "median best [95 % CI]", Kind.INTERVAL),
             Column("mean_average_viable", "viable average", value),
             Column("unviable_share", "unviable", Kind.SHARE),
-            Column("walk_rate", "walk rate", Kind.SHARE),
+            Column("walk_rate", "walk rate [95 % CI]", Kind.SHARE_INTERVAL),
             Column("walk_held_rate", "walk held", Kind.SHARE),
         ),
         tuple(
@@ -314,7 +336,7 @@ def summary_table(summaries: Sequence[ArmSummary]) -> Table:
                 (s.median_best, *s.median_best_ci),
                 s.mean_average_viable,
                 s.unviable_share,
-                s.walk_rate,
+                s.walk_rate_cell,
                 s.walk_held_rate,
             )
             for s in summaries
@@ -407,6 +429,54 @@ def fronts_section(
     )
 
 
+# ---- how soon a walk is found -----------------------------------------------------------------
+
+
+FIRST_WALK_TEXT = (
+    "The first generation whose population holds a walk (the backend's criterion, every gait as "
+    "scored and, for a candidate, checked over the horizon): how much search each arm needed to "
+    "find one. A run that never finds one counts as one generation after its last in the rank "
+    "tests, behind every run that does."
+)
+
+
+def first_walk_section(arms: Sequence[ArmRecord]) -> Section | None:
+    """When each arm's runs first held a walk, with the rank tests; None where the records do not
+    say (a backend that judges no walks, older runs)."""
+    if not arms or any(r.walk_share is None for arm in arms for r in arm.runs):
+        return None
+    found = {arm.name: [r.first_walk for r in arm.runs] for arm in arms}
+    ranked = {arm.name: [arm.generations + 1 if g is None else g for g in found[arm.name]] for arm in arms}
+    rows = []
+    for arm in arms:
+        seen = [g for g in found[arm.name] if g is not None]
+        rows.append(
+            (
+                arm.name,
+                len(arm.runs),
+                len(seen),
+                float(np.median(ranked[arm.name])) if len(seen) * 2 > len(arm.runs) else None,
+                min(seen) if seen else None,
+                max(seen) if seen else None,
+            )
+        )
+    table = Table(
+        "generations",
+        (
+            Column("arm", "arm", Kind.TEXT),
+            Column("runs", "runs", Kind.COUNT),
+            Column("found", "runs that found one", Kind.COUNT),
+            Column("median_generation", "median generation"),
+            Column("earliest", "earliest", Kind.COUNT),
+            Column("latest", "latest found", Kind.COUNT),
+        ),
+        tuple(rows),
+        "median over every run (n/a when half or more never found one)",
+    )
+    tests = (RankTests("generation of the first walk", compare(ranked)),)
+    return Section("first-walk", "The first walk", "over generations", FIRST_WALK_TEXT, (table,), tests)
+
+
 # ---- the report ------------------------------------------------------------------------------
 
 
@@ -464,6 +534,8 @@ class StudyReport:
                     "mean_average_viable": s.mean_average_viable,
                     "unviable_share": s.unviable_share,
                     "walk_rate": s.walk_rate,
+                    "walks": s.walks,
+                    "walk_rate_ci95": None if s.walk_rate_ci is None else list(s.walk_rate_ci),
                     "walk_held_rate": s.walk_held_rate,
                 }
                 for s, a in zip(self.summaries, self.arms, strict=True)

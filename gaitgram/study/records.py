@@ -49,6 +49,16 @@ class RunRecord:
     #: What the run hands back holds a walk: its repertoire, its Pareto front, or else its final
     #: population (None: the backend or the records do not say).
     holds_walk: bool | None = None
+    #: Per generation, the share of the population that is a walk (None: the records do not say).
+    walk_share: np.ndarray | None = None
+
+    @property
+    def first_walk(self) -> int | None:
+        """The first generation whose population holds a walk; None if none does (or unknown)."""
+        if self.walk_share is None:
+            return None
+        found = np.flatnonzero(self.walk_share > 0)
+        return int(found[0]) if len(found) else None
 
 
 @dataclass(frozen=True)
@@ -92,6 +102,12 @@ class ArmRecord:
     @property
     def walk_rate(self) -> float | None:
         return _share([r.walk for r in self.runs])
+
+    @property
+    def walks(self) -> int | None:
+        """How many runs' best gaits are walks; None if any run's records do not say."""
+        flags = [r.walk for r in self.runs]
+        return None if any(flag is None for flag in flags) else sum(bool(flag) for flag in flags)
 
     @property
     def walk_held_rate(self) -> float | None:
@@ -208,7 +224,15 @@ def _load_run(path: Path, generations: int, redo: str, verdict: Verdict | None) 
         if verdict is None or verdict.component not in components
         else verdict.holds_in(components, viable=best_record["status"] == "ok"),
         holds_walk=_holds_walk(path, records[-1], verdict),
+        walk_share=_walk_share(records, verdict),
     )
+
+
+def _walk_share(records: list[dict[str, Any]], verdict: Verdict | None) -> np.ndarray | None:
+    key = None if verdict is None else f"mean_{verdict.component}"
+    if key is None or any(record.get(key) is None for record in records):
+        return None
+    return np.array([float(record[key]) for record in records])
 
 
 def _lines(path: Path, rewrite: str) -> list[str]:
@@ -290,7 +314,7 @@ def _holds_walk(path: Path, final: dict[str, Any], verdict: Verdict | None) -> b
     except RecordError as error:
         raise ReportError(str(error)) from None
     if members is None:
-        share = final.get("mean_walk")  # over the final population's viable gaits
+        share = None if verdict is None else final.get(f"mean_{verdict.component}")  # the population's
         return None if share is None else share > 0
     if verdict is None or any(verdict.component not in m["components"] for m in members):
         return None

@@ -46,7 +46,15 @@ from gaitgram.study.formats import text_files
 from gaitgram.study.gallery import gaits_section, render_gaits, spread_cells
 from gaitgram.study.html import html
 from gaitgram.study.kept_gaits import arm_curves_figure, load_assessed, realism_section, robustness_section
-from gaitgram.study.model import Gait, Section, StudyReport, build_report, figure_name, fronts_section
+from gaitgram.study.model import (
+    Gait,
+    Section,
+    StudyReport,
+    build_report,
+    figure_name,
+    first_walk_section,
+    fronts_section,
+)
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable, load_arms
 
 HTML = "report.html"
@@ -71,6 +79,7 @@ def study_report(
     assessed = [found for found in map(load_assessed, arms) if found is not None]
     gallery = gaits_section(arms, fronts, repertoires, cells, gaits=gaits)
     sections = (
+        first_walk_section(arms),
         fronts_section(arms, fronts, repertoires, cells),
         realism_section(arms, assessed),
         robustness_section(arms, assessed),

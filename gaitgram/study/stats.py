@@ -75,6 +75,15 @@ def bootstrap_median_ci(values: Sequence[float], confidence: float = 0.95) -> tu
     return float(result.confidence_interval.low), float(result.confidence_interval.high)
 
 
+def wilson_interval(successes: int, trials: int, confidence: float = 0.95) -> tuple[float, float]:
+    """Wilson's score interval of a share (Wilson 1927): unlike the normal approximation it stays
+    within [0, 1] and is not empty at 0 or n successes, which small studies often report."""
+    from scipy import stats
+
+    interval = stats.binomtest(successes, trials).proportion_ci(confidence_level=confidence, method="wilson")
+    return float(interval.low), float(interval.high)
+
+
 @dataclass(frozen=True)
 class PairTest:
     first: str

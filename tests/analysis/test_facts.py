@@ -15,9 +15,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from conftest import GRAMMARS
 from gaitgram.analysis import analyse, build_cfg, check
 from gaitgram.analysis.cfg import Cfg
-from gaitgram.analysis.facts import reachable_from
+from gaitgram.analysis.facts import derived_exactly_once, occurrence_bounds, reachable_from
 from gaitgram.language import parse
 
 # A grammar here: rules r0..rN-1, each a list of alternatives, each a list of
@@ -121,6 +122,21 @@ def test_lint_reports_exactly_the_unproductive_and_unreachable_rules(raw: RawGra
     assert any(d.code.code == "GG205" for d in found) == (not productive[0])
 
 
+@given(raw_grammars())
+def test_rules_derived_exactly_once_agree_with_the_search(raw: RawGrammar) -> None:
+    # The linter's shortcut before a search per joint rule: wherever it answers, so does the search.
+    facts = analyse(parse(to_text(raw)))
+    for rule in derived_exactly_once(facts.cfg, facts.productive):
+        assert occurrence_bounds(facts.cfg, rule, facts.productive) == (1, 1)
+
+
+def test_every_joint_rule_of_a_bundled_grammar_is_found_once_without_a_search() -> None:
+    grammar = parse((GRAMMARS / "sine-walk.gg").read_text(encoding="utf-8"))
+    facts = analyse(grammar)
+    once = derived_exactly_once(facts.cfg, facts.productive)
+    assert {facts.cfg.index[joint.rule] for joint in grammar.joints} <= once
+
+
 def test_min_depth_per_choice() -> None:
     facts = analyse(parse("<e> ::= <e> + <v> | <v>\n<v> ::= x | (<e>)"))
     e = facts.rule("e")
@@ -222,3 +238,42 @@ def test_bison_agrees_on_hand_written_grammars(
 def test_cfg_of_empty_grammar() -> None:
     cfg = build_cfg(parse(""))
     assert (len(cfg), cfg.start) == (0, None)
+
+
+def reference_removed_with(raw: RawGrammar, rule: int, limit: int) -> set[int] | None:
+    """The unreachable-rule fix's rules, by a search per rule: ``rule`` and every rule using it,
+    transitively; None if one of them is reachable or more than ``limit`` would go."""
+    reachable = reference_reachable(raw)
+    users = {i: {u for u, alts in enumerate(raw) for a in alts if i in a and u != i} for i in range(len(raw))}
+    removed, frontier = {rule}, [rule]
+    while frontier:
+        for user in users[frontier.pop()]:
+            if user in removed:
+                continue
+            if reachable[user]:
+                return None
+            removed.add(user)
+            frontier.append(user)
+    return removed if len(removed) <= limit else None
+
+
+@given(raw_grammars(max_rules=8), st.integers(1, 4))
+def test_unreachable_rule_fixes_remove_every_user_or_nothing(raw: RawGrammar, limit: int) -> None:
+    from gaitgram.analysis.lint import rule_checks
+
+    grammar = parse(to_text(raw))
+    original, rule_checks.MAX_REMOVED_WITH = rule_checks.MAX_REMOVED_WITH, limit
+    try:
+        found = {d.rule: d.fixes for d in check(grammar).diagnostics if d.code.code == "GG204"}
+    finally:
+        rule_checks.MAX_REMOVED_WITH = original
+    for name, fixes in found.items():
+        expected = reference_removed_with(raw, int(name.removeprefix("r")), limit)
+        if expected is None:
+            assert fixes == ()
+            continue
+        (fix,) = fixes
+        others = len(expected) - 1
+        assert fix.title.endswith("using it") == (others > 0)
+        deleted = "".join(grammar.source.text[e.span.start : e.span.end] for e in fix.edits)
+        assert {f"r{i}" for i in expected} == set(re.findall(r"^<(r\d+)> ::=", deleted, re.MULTILINE))

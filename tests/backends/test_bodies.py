@@ -24,7 +24,7 @@ from gaitgram.backends.mujoco_horse.bodies import BODIES, REFERENCE_BODY, Unknow
 from gaitgram.backends.mujoco_horse.model import horse_layout, load_model, master_spec
 from gaitgram.backends.mujoco_horse.retarget import frequency_ratio, retarget
 from gaitgram.backends.mujoco_horse.settings import HorseSettings
-from gaitgram.backends.mujoco_horse.task import walk_targets
+from gaitgram.backends.mujoco_horse.targets import walk_targets
 from gaitgram.backends.registry import get_backend
 from gaitgram.cli import app
 from gaitgram.evolution.checkpoint import load_checkpoint

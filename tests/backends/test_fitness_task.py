@@ -25,18 +25,16 @@ from gaitgram.backends.mujoco_horse.measures import (
     touchdowns,
     window,
 )
-from gaitgram.backends.mujoco_horse.task import (
+from gaitgram.backends.mujoco_horse.targets import (
     COMPONENT_CAP,
     DEFAULT_WEIGHTS,
     PAPER_WEIGHTS,
     WALK_COMPONENTS,
     WALK_TERMS,
-    fitness_components,
     unviable_fitness,
     walk_targets,
-    walk_terms,
-    weighted_fitness,
 )
+from gaitgram.backends.mujoco_horse.task import fitness_components, walk_terms, weighted_fitness
 from gaitgram.pipeline import honest
 
 HIP = 1.1388

@@ -14,7 +14,7 @@ import pytest
 from gaitgram.backends.api import WORST_FITNESS, GaitStatus
 from gaitgram.backends.mujoco_horse import CATALOGUE
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator, HorseSettings
-from gaitgram.backends.mujoco_horse.task import duty_factor_for, walk_targets
+from gaitgram.backends.mujoco_horse.targets import duty_factor_for, walk_targets
 from gaitgram.backends.registry import get_backend
 from gaitgram.motion.gait import motion_batch
 

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from gaitgram.backends.mujoco_horse.task import TASK_REVISION
+from gaitgram.backends.mujoco_horse.targets import TASK_REVISION
 from gaitgram.cli import app
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -126,7 +126,7 @@ def test_a_real_clip_reads_as_a_walk(tmp_path: Path) -> None:
 def test_the_seed_agrees_with_the_measured_walks() -> None:
     """seeds/dlc_walk.json (derived from 169 real walks) against the bundled seed and the walk the
     backend imposes: the agreement seeds/README.md claims."""
-    from gaitgram.backends.mujoco_horse.task import WALK_PHASE_OFFSETS, walk_targets
+    from gaitgram.backends.mujoco_horse.targets import WALK_PHASE_OFFSETS, walk_targets
     from gaitgram.seed.data import load_seed
 
     measured = json.loads((Path(__file__).resolve().parents[2] / "seeds" / "dlc_walk.json").read_text())
@@ -140,7 +140,7 @@ def test_the_seed_agrees_with_the_measured_walks() -> None:
         assert lands[hoof]["median"] == pytest.approx(WALK_PHASE_OFFSETS[limb], abs=0.03)
     assert measured["duty_factor"]["median"] == pytest.approx(walk_targets().duty_factor, abs=0.06)
     # Walk criterion v2 judges footfalls and duty factor by these very measurements.
-    from gaitgram.backends.mujoco_horse.task import WALK_DUTY_LOW, WALK_FOOTFALLS
+    from gaitgram.backends.mujoco_horse.targets import WALK_DUTY_LOW, WALK_FOOTFALLS
 
     for hoof, limb in [
         ("LeftFrontHoof", "fore_left"),

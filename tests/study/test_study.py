@@ -22,7 +22,7 @@ from gaitgram.cli import app
 from gaitgram.study.model import build_report
 from gaitgram.study.records import load_study_arms
 from gaitgram.study.spec import ScaleDown, StudyError, load_study
-from gaitgram.study.stats import a12, holm
+from gaitgram.study.stats import a12, holm, wilson_interval
 
 runner = CliRunner()
 
@@ -186,6 +186,17 @@ def test_holm_and_a12_on_known_values() -> None:
     assert a12([1, 2], [1, 2]) == 0.5
 
 
+@pytest.mark.parametrize(("walks", "runs"), [(0, 3), (2, 3), (27, 30), (30, 30), (5, 10)])
+def test_the_walk_rate_interval_is_wilsons_score_interval(walks: int, runs: int) -> None:
+    z = stats.norm.ppf(0.975)
+    share = walks / runs
+    centre = (share + z * z / (2 * runs)) / (1 + z * z / runs)
+    half = z / (1 + z * z / runs) * np.sqrt(share * (1 - share) / runs + z * z / (4 * runs * runs))
+    low, high = wilson_interval(walks, runs)
+    assert (low, high) == pytest.approx((centre - half, centre + half), abs=1e-12)
+    assert 0 <= low <= share <= high <= 1
+
+
 def test_the_bundled_paper_studies_load_at_the_table_1_budget_and_scale_down() -> None:
     studies = Path(__file__).resolve().parents[2] / "studies"
     table5 = load_study(studies / "table5.toml")
@@ -235,6 +246,8 @@ def write_arm(path: Path, runs: list[dict]) -> Path:
         directory.mkdir()
         row = {"best": 1.0, "average": 1.0, "invalid": 0, "evaluations": 4, **run.get("stats", {})}
         rows = [{"generation": generation, **row} for generation in range(2)]
+        for generation, share in enumerate(run.get("walk_shares", ())):
+            rows[generation]["mean_walk"] = share
         (directory / "stats.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows))
         best = {"fitness": 1.0, "status": "ok", "components": {"walk": run["best_walk"]}}
         (directory / "best.json").write_text(json.dumps(best))
@@ -280,13 +293,36 @@ def test_walk_held_counts_what_each_strategy_hands_back(tmp_path: Path) -> None:
     assert (arms["silent"].walk_rate, arms["silent"].walk_held_rate) == (1.0, None)
     report = build_report(list(arms.values()))
     table = markdown(report)
-    assert "| walk rate | walk held |" in table
-    assert "| 33% | 67% |" in table
-    assert "| 100% | n/a |" in table
+    assert "| walk rate [95 % CI] | walk held |" in table
+    assert "| 33% [6%, 79%] | 67% |" in table
+    assert "| 100% [21%, 100%] | n/a |" in table
     rows = csv_text(report).splitlines()
-    assert rows[0].endswith("walk_rate,walk_held_rate")
-    assert rows[-1].endswith(",1.0,")
+    assert rows[0].endswith("walk_rate,walk_rate_ci_low,walk_rate_ci_high,walk_held_rate")
+    assert rows[-1].endswith(",1.0,0.20654931437723745,1.0,")
     assert [a["walk_held_rate"] for a in report.as_json()["arms"]] == [pytest.approx(2 / 3), 0.5, 1.0, None]
+
+
+def test_the_first_walk_is_the_first_generation_whose_population_holds_one(tmp_path: Path) -> None:
+    from gaitgram.study.model import first_walk_section
+    from gaitgram.study.records import load_arm
+
+    early = write_arm(
+        tmp_path / "early",
+        [{"best_walk": 1.0, "walk_shares": [0.25, 0.5]}, {"best_walk": 1.0, "walk_shares": [0.0, 0.25]}],
+    )
+    late = write_arm(tmp_path / "late", [{"best_walk": 0.0, "walk_shares": [0.0, 0.0]}] * 2)
+    arms = [load_arm(early), load_arm(late)]
+    assert [r.first_walk for r in arms[0].runs] == [0, 1]
+    assert [r.first_walk for r in arms[1].runs] == [None, None]
+    section = first_walk_section(arms)
+    assert section is not None
+    (table,) = section.tables
+    assert table.rows == (("early", 2, 2, 0.5, 0, 1), ("late", 2, 0, None, None, None))
+    (pair,) = section.tests[0].comparison.pairs
+    assert pair.a12 == 1.0  # every early run found one sooner than every late run (which never did)
+    # Records that do not say (a backend without a walk criterion): no section, not "never".
+    silent = write_arm(tmp_path / "silent", [{"best_walk": 1.0}])
+    assert first_walk_section([arms[0], load_arm(silent)]) is None
 
 
 def test_an_unreadable_front_is_a_report_error(tmp_path: Path) -> None:

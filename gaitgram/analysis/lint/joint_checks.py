@@ -11,7 +11,7 @@ from collections.abc import Iterator
 from difflib import get_close_matches
 from types import ModuleType
 
-from gaitgram.analysis.facts import INFINITE, GrammarFacts, occurrence_bounds
+from gaitgram.analysis.facts import INFINITE, GrammarFacts, derived_exactly_once, occurrence_bounds
 from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
 from gaitgram.language.model import Grammar
 
@@ -210,9 +210,10 @@ def joints_derived_once(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagn
     cfg = facts.cfg
     if not facts.start_productive:
         return
+    once = derived_exactly_once(cfg, facts.productive)
     for joint in grammar.joints:
         target = cfg.index.get(joint.rule)
-        if target is None:
+        if target is None or target in once:
             continue
         fewest, most = occurrence_bounds(cfg, target, facts.productive)
         if fewest == 1 and most == 1:

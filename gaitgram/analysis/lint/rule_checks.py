@@ -268,7 +268,7 @@ def unreachable_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnos
         for ref in rule.references():
             if ref.name in unreachable and ref.name != rule.name:
                 users.setdefault(ref.name, []).append(rule)
-    removals: dict[int, Span] = {}  # by id(rule): a chain of n rules is in n fixes
+    removals = _Removals(grammar, unreachable, users, definitions)
     for rule in grammar.rules_by_name.values():
         if rule.name in unreachable:
             yield UNREACHABLE_RULE(
@@ -276,9 +276,7 @@ def unreachable_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnos
                 rule.name_span,
                 rule=rule.name,
                 hint=f"delete it, or use it from a rule that <{start}> reaches",
-                fixes=partial(
-                    _unreachable_fixes, grammar, rule.name, unreachable, users, definitions, removals
-                ),
+                fixes=partial(removals.fixes, rule.name),
                 data={"name": rule.name},
             )
 
@@ -287,40 +285,78 @@ def unreachable_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnos
 MAX_REMOVED_WITH = 50
 
 
-def _unreachable_fixes(
-    grammar: Grammar,
-    name: str,
-    unreachable: set[str],
-    users: dict[str, list[Rule]],
-    definitions: dict[str, list[Rule]],
-    removals: dict[int, Span],
-) -> list[Fix]:
-    """Delete every definition of the rule, and of the unreachable rules that use it (so no
-    reference is left undefined); none if a reachable rule's text uses it."""
-    removed = [name]
-    seen = {name}
-    for current in removed:
-        for user in users.get(current, ()):
-            if user.name in seen:
+class _Removals:
+    """The fixes that delete unreachable rules: each rule with every unreachable rule that uses
+    it, directly or not (so that no reference is left undefined), or none if a reachable rule
+    uses one of them or more than :data:`MAX_REMOVED_WITH` would go.
+
+    Computed when asked for (JSON and editors ask for all of them, text output for none), each
+    rule's set once: a rule's set holds the sets of the rules that use it, so a grammar of
+    thousands of unreachable rules costs set unions, not a search per rule."""
+
+    def __init__(
+        self,
+        grammar: Grammar,
+        unreachable: set[str],
+        users: dict[str, list[Rule]],
+        definitions: dict[str, list[Rule]],
+    ) -> None:
+        self.grammar = grammar
+        self.unreachable = unreachable
+        self.users = {name: {user.name for user in found} for name, found in users.items()}
+        self.definitions = definitions
+        self._with: dict[str, frozenset[str] | None] = {}  # None: no fix
+        self._spans: dict[int, Span] = {}  # by id(rule): a chain of n rules is in n fixes
+
+    def removed_with(self, name: str) -> frozenset[str] | None:
+        """``name`` and the unreachable rules that use it, or None if they cannot all go."""
+        if name in self._with:
+            return self._with[name]
+        removed = {name}
+        frontier = [name]
+        found: frozenset[str] | None = None
+        while frontier:
+            for user in self.users.get(frontier.pop(), ()):
+                if user in removed:
+                    continue
+                if user not in self.unreachable:
+                    break
+                known = self._with.get(user, ())
+                if known is None:  # it cannot go, and it would have to
+                    break
+                if known:
+                    removed |= known  # every user of those is in it already
+                else:
+                    removed.add(user)
+                    frontier.append(user)
+                if len(removed) > MAX_REMOVED_WITH:
+                    break
+            else:
                 continue
-            if user.name not in unreachable or len(removed) >= MAX_REMOVED_WITH:
-                return []
-            seen.add(user.name)
-            removed.append(user.name)
-    text = grammar.source.text
-    spans = []
-    for rule in (rule for n in removed for rule in definitions[n]):
-        span = removals.get(id(rule))
-        if span is None:
-            span = removals[id(rule)] = _rule_removal(text, rule)
-        spans.append(span)
-    if len(spans) > 1:
-        spans = union(spans)
-    others = len(removed) - 1
-    title = f"Remove unreachable <{name}>"
-    if others:
-        title += f" and the {'rule' if others == 1 else f'{others} rules'} using it"
-    return [Fix(title, tuple(TextEdit(s, "") for s in spans), Applicability.UNSAFE, preferred=True)]
+            break
+        else:
+            found = frozenset(removed)
+        self._with[name] = found
+        return found
+
+    def fixes(self, name: str) -> list[Fix]:
+        removed = self.removed_with(name)
+        if removed is None:
+            return []
+        text = self.grammar.source.text
+        spans = []
+        for rule in (rule for n in sorted(removed) for rule in self.definitions[n]):
+            span = self._spans.get(id(rule))
+            if span is None:
+                span = self._spans[id(rule)] = _rule_removal(text, rule)
+            spans.append(span)
+        if len(spans) > 1:
+            spans = union(spans)
+        others = len(removed) - 1
+        title = f"Remove unreachable <{name}>"
+        if others:
+            title += f" and the {'rule' if others == 1 else f'{others} rules'} using it"
+        return [Fix(title, tuple(TextEdit(s, "") for s in spans), Applicability.UNSAFE, preferred=True)]
 
 
 def unit_rule_chains(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:

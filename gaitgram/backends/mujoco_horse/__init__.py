@@ -5,7 +5,7 @@ from __future__ import annotations
 import hashlib
 from collections.abc import Mapping
 from dataclasses import asdict
-from importlib.metadata import PackageNotFoundError, version
+from functools import cache
 from importlib.resources import files
 from typing import Any
 
@@ -13,7 +13,7 @@ from gaitgram.backends.api import Verdict
 from gaitgram.backends.mujoco_horse.bodies import BODIES, SCALINGS
 from gaitgram.backends.mujoco_horse.joints import CATALOGUE
 from gaitgram.backends.mujoco_horse.settings import WEIGHT_NAMES, HorseSettings, weights_in_force
-from gaitgram.backends.mujoco_horse.task import (
+from gaitgram.backends.mujoco_horse.targets import (
     CYCLE_FREQUENCIES,
     DEFAULT_WEIGHTS,
     TASK_REVISION,
@@ -61,8 +61,12 @@ def scored_components(settings: Mapping[str, Any]) -> tuple[str, ...]:
     return tuple(name for name in DEFAULT_WEIGHTS if weights.get(name, 0.0) > 0)
 
 
+@cache
 def _version() -> str:
-    """The fitness formula's revision, the simulator's release and a digest of the model files."""
+    """The fitness formula's revision, the simulator's release and a digest of the model files
+    (when a run records it: importlib.metadata would slow every ``gaitgram check``)."""
+    from importlib.metadata import PackageNotFoundError, version
+
     digest = hashlib.sha256()
     for name in ("horse.xml", "joints.toml"):
         digest.update(files(__name__).joinpath(name).read_bytes())
@@ -81,7 +85,7 @@ BACKEND = BackendSpec(
     check_settings=check_settings,
     weight_names=lambda settings: WEIGHT_NAMES,
     runtime_settings=frozenset({"threads"}),
-    version=_version(),
+    version=_version,
     unviable_fitness=lambda settings, weights: unviable_fitness(
         weights_in_force(weights, settings.get("weights"))
     ),

@@ -55,14 +55,8 @@ from gaitgram.backends.mujoco_horse.measures import (
 )
 from gaitgram.backends.mujoco_horse.model import STATE_SPEC, HorseLayout, horse_layout, load_model
 from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles, weights_in_force
-from gaitgram.backends.mujoco_horse.task import (
-    WALK_TERMS,
-    GaitTargets,
-    fitness_components,
-    walk_targets,
-    walk_terms,
-    weighted_fitness,
-)
+from gaitgram.backends.mujoco_horse.targets import WALK_TERMS, GaitTargets, walk_targets
+from gaitgram.backends.mujoco_horse.task import fitness_components, walk_terms, weighted_fitness
 from gaitgram.motion.gait import MotionBatch
 
 #: Trunk lower than this share of its standing height: the horse fell.

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from functools import cache
 from importlib.resources import files
 from typing import Any
@@ -37,9 +37,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
-from gaitgram.backends.mujoco_horse.measures import HOOVES, measure_cycles, strides, touchdowns
+from gaitgram.backends.mujoco_horse.measures import HOOVES, measure_cycles, strides, touchdowns, window
 from gaitgram.backends.mujoco_horse.model import STATE_SPEC
 from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles
+from gaitgram.backends.mujoco_horse.targets import G, duty_factor_for
 from gaitgram.motion.gait import MotionBatch
 
 #: Phases at which the real walks' curves are given.
@@ -79,6 +80,9 @@ class Realism:
     curves: dict[str, NDArray[np.float64]]  # each over one stride, CURVE_SAMPLES phases
     scores: dict[str, float]  # per measure of MEASURES: how far from the real walks, in their spread
     distance: float  # the mean of the scores
+    #: The scored window's speed, stride length and frequency, and what the Froude relations
+    #: predict at that speed for this body (Alexander & Jayes' duty factor, Alexander's stride).
+    at_speed: dict[str, float] = field(default_factory=dict)
 
 
 def _angle(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -135,10 +139,28 @@ def assess(settings: dict[str, Any], batch: MotionBatch) -> list[Realism | None]
             scored = measure_cycles(recording, warmup, warmup + evaluator.scored, evaluator.gap_steps)
             start, end = recording.cycle_edges(warmup + evaluator.scored)[[warmup, -1]]
             curves = landmark_curves(evaluator.model, states[g])
-            found.append(_realism(scored, recording, curves, int(start), int(end), evaluator.gap_steps))
+            realism = _realism(scored, recording, curves, int(start), int(end), evaluator.gap_steps)
+            found.append(None if realism is None else replace(realism, at_speed=_at_speed(scored, evaluator)))
         return found
     finally:
         evaluator.close()
+
+
+def _at_speed(scored: Any, evaluator: HorseEvaluator) -> dict[str, float]:
+    means = window(scored)
+    speed = means.velocity
+    targets = evaluator.targets
+    froude = speed / math.sqrt(G * targets.hip_height) if speed > 0 else math.nan
+    length = float(targets.stride_at(speed)) if speed > 0 else math.nan
+    return {
+        "speed": speed,
+        "stride_length": means.stride_length,
+        "stride_frequency": means.stride_frequency,
+        "froude": froude,
+        "predicted_duty_factor": duty_factor_for(froude) if speed > 0 else math.nan,
+        "predicted_stride_length": length,
+        "predicted_stride_frequency": speed / length if speed > 0 else math.nan,
+    }
 
 
 def _realism(

@@ -20,7 +20,7 @@ import numpy as np
 from gaitgram.backends.mujoco_horse.bodies import SCALINGS
 from gaitgram.backends.mujoco_horse.model import horse_layout
 from gaitgram.backends.mujoco_horse.settings import HorseSettings
-from gaitgram.backends.mujoco_horse.task import CYCLE_FREQUENCIES, walk_targets
+from gaitgram.backends.mujoco_horse.targets import CYCLE_FREQUENCIES, walk_targets
 from gaitgram.motion.gait import MotionBatch
 
 

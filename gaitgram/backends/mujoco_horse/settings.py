@@ -15,7 +15,7 @@ from typing import Any
 
 from gaitgram.backends.api import SettingsError
 from gaitgram.backends.mujoco_horse.bodies import UnknownBody, body_named
-from gaitgram.backends.mujoco_horse.task import (
+from gaitgram.backends.mujoco_horse.targets import (
     CYCLE_FREQUENCIES,
     DEFAULT_FROUDE,
     DEFAULT_WEIGHTS,
