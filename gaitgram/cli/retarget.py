@@ -3,16 +3,19 @@
 
 from __future__ import annotations
 
+import itertools
+from dataclasses import asdict
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
+import numpy as np
 import typer
 from rich.console import Console
 from rich.table import Table
 
 from gaitgram import jsonio
 from gaitgram.backends.api import Evaluation, Verdict
-from gaitgram.cli.common import fail
+from gaitgram.cli.common import fail, require_extra
 from gaitgram.cli.options import Walk
 from gaitgram.cli.selection import SelectedGait, SelectionError, select_gait
 from gaitgram.evolution.retarget import Retargeted, RetargetError, RunBest, retarget, retarget_runs
@@ -114,6 +117,7 @@ def _show_runs(run: Path, to: str, results: list[RunBest], verdict: Verdict | No
                 }
                 for r in results
             ],
+            "summary": _summary(results, verdict),
         }
         typer.echo(jsonio.dumps(record))
         return
@@ -123,12 +127,47 @@ def _show_runs(run: Path, to: str, results: list[RunBest], verdict: Verdict | No
         out.print(_table(f"{run} run {r.run}, best, generation {r.generation}, on {to}", rows, verdict))
         for name, _, evaluation in rows:
             _explain(out, name, evaluation, verdict)
-    if verdict is not None:
-        for index, (name, _, _) in enumerate(results[0].played):
-            held = sum(
-                verdict.holds(r.played[index][2]) and r.played[index][2].status.viable for r in results
+    for line in _summary_lines(_summary(results, verdict), to, verdict):
+        out.print(line, soft_wrap=True)
+
+
+def _summary(results: list[RunBest], verdict: Verdict | None) -> dict[str, Any]:
+    """Per playing, the runs whose best is a walk on the body with Wilson's interval; per pair of
+    playings, which scores lower run by run, with Wilcoxon's signed-rank test (paired by run)."""
+    require_extra("scipy", "the intervals and paired tests of retarget --each-run")
+    from gaitgram.study.stats import paired_wilcoxon, wilson_interval
+
+    names = [name for name, _, _ in results[0].played]
+    fitness = {name: [r.played[i][2].fitness for r in results] for i, name in enumerate(names)}
+    summary: dict[str, Any] = {"runs": len(results), "playings": {}, "paired": []}
+    for i, name in enumerate(names):
+        entry: dict[str, Any] = {"median_fitness": float(np.median(fitness[name]))}
+        if verdict is not None:
+            walks = sum(verdict.holds(r.played[i][2]) for r in results)
+            entry |= {"walks": walks, "wilson95": list(wilson_interval(walks, len(results)))}
+        summary["playings"][name] = entry
+    for first, second in itertools.combinations(names, 2):
+        test = paired_wilcoxon(first, second, fitness[first], fitness[second])
+        summary["paired"].append(asdict(test))
+    return summary
+
+
+def _summary_lines(summary: dict[str, Any], to: str, verdict: Verdict | None) -> list[str]:
+    runs, lines = summary["runs"], []
+    for name, entry in summary["playings"].items():
+        if verdict is not None:
+            low, high = entry["wilson95"]
+            lines.append(
+                f"{name}: {entry['walks']} of {runs} runs' bests are a {verdict.label} on {to} "
+                f"(Wilson 95 %: {low:.0%}-{high:.0%}); median fitness {entry['median_fitness']:.4g}"
             )
-            out.print(f"{name}: {held} of {len(results)} runs' bests are a {verdict.label} on {to}")
+    for test in summary["paired"]:
+        lines.append(
+            f"{test['first']} vs {test['second']}, paired by run: fitness lower under {test['first']} in "
+            f"{test['first_lower']} of {test['pairs']}; Wilcoxon signed-rank W = {test['statistic']:g}, "
+            f"p = {test['p_value']:.4g}"
+        )
+    return lines
 
 
 def _explain(out: Console, name: str, evaluation: Evaluation, verdict: Verdict | None) -> None:

@@ -85,6 +85,30 @@ def wilson_interval(successes: int, trials: int, confidence: float = 0.95) -> tu
 
 
 @dataclass(frozen=True)
+class PairedTest:
+    """Two treatments of the same units (each run's best gait played two ways), compared pair by
+    pair: Wilcoxon's signed-rank test, two-sided, on the differences."""
+
+    first: str
+    second: str
+    pairs: int
+    first_lower: int  # pairs where the first's value is lower (better, for a fitness)
+    statistic: float
+    p_value: float
+
+
+def paired_wilcoxon(first: str, second: str, a: Sequence[float], b: Sequence[float]) -> PairedTest:
+    from scipy import stats
+
+    x, y = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    lower = int(np.sum(x < y))
+    if len(x) == 0 or np.all(x == y):  # no difference to rank
+        return PairedTest(first, second, len(x), lower, 0.0, 1.0)
+    result = stats.wilcoxon(x, y, alternative="two-sided")
+    return PairedTest(first, second, len(x), lower, float(result.statistic), float(result.pvalue))
+
+
+@dataclass(frozen=True)
 class PairTest:
     first: str
     second: str

@@ -34,6 +34,7 @@ from gaitgram.evolution.rundir import RunDirectory
 from gaitgram.evolution.session import run_session
 from gaitgram.pipeline import Pipeline
 from gaitgram.seed import load_seed
+from gaitgram.study.stats import wilson_interval
 
 runner = CliRunner()
 HYBRID = str(GRAMMARS / "hybrid.gg")
@@ -214,6 +215,21 @@ def test_retarget_command(horse_run: Path) -> None:
     assert each.exit_code == 0, each.output
     (only,) = json.loads(each.output)["runs"]  # one run, finished
     assert only["played"] == record["played"]  # the best of one run is that run's best
+    summary = json.loads(each.output)["summary"]
+    assert summary["runs"] == 1
+    for name in ("froude", "unscaled"):
+        walks = summary["playings"][name]["walks"]
+        assert walks == int(
+            playings[name]["components"].get("walk", 0) >= 0.5 and playings[name]["status"] == "ok"
+        )
+        assert summary["playings"][name]["wilson95"] == pytest.approx(list(wilson_interval(walks, 1)))
+        assert summary["playings"][name]["median_fitness"] == playings[name]["fitness"]
+    (paired,) = summary["paired"]
+    assert (paired["first"], paired["second"], paired["pairs"]) == ("froude", "unscaled", 1)
+    assert paired["first_lower"] == int(playings["froude"]["fitness"] < playings["unscaled"]["fitness"])
+    printed = runner.invoke(app, ["retarget", "--run", str(horse_run), "--to", "shetland", "--each-run"])
+    assert "froude vs unscaled, paired by run: fitness lower under froude in" in printed.output
+    assert "runs' bests are a walk on shetland (Wilson 95 %:" in printed.output
     table = runner.invoke(app, ["retarget", "--run", str(horse_run), "--to", "draft", "--scaling", "froude"])
     assert table.exit_code == 0, table.output
     assert "froude" in table.output
