@@ -429,6 +429,42 @@ def fronts_section(
     )
 
 
+# ---- where the runs started -------------------------------------------------------------------
+
+
+START_TEXT = (
+    "The best of each run's first generation beside its last: where the search started (from "
+    "random derivations, or from another run's population) and what it made of it. A started "
+    "arm's first-generation best at or below another arm's final best is that arm's whole search, "
+    "saved."
+)
+
+
+def start_section(arms: Sequence[ArmRecord]) -> Section:
+    """Each arm's first-generation best and final best, with the rank tests of the first."""
+    initial = {arm.name: [float(r.best[0]) for r in arm.runs] for arm in arms}
+    table = Table(
+        "bests",
+        (
+            Column("arm", "arm", Kind.TEXT),
+            Column("runs", "runs", Kind.COUNT),
+            Column("median_initial_best", "median first-generation best [95 % CI]", Kind.INTERVAL),
+            Column("median_final_best", "median final best [95 % CI]", Kind.INTERVAL),
+        ),
+        tuple(
+            (
+                arm.name,
+                len(arm.runs),
+                (float(np.median(initial[arm.name])), *bootstrap_median_ci(initial[arm.name])),
+                (float(np.median(arm.final_best)), *bootstrap_median_ci(arm.final_best)),
+            )
+            for arm in arms
+        ),
+    )
+    tests = (RankTests("first-generation best", compare(initial)),)
+    return Section("start", "Where the runs started", "generation 0", START_TEXT, (table,), tests)
+
+
 # ---- how soon a walk is found -----------------------------------------------------------------
 
 

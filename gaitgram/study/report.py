@@ -54,6 +54,7 @@ from gaitgram.study.model import (
     figure_name,
     first_walk_section,
     fronts_section,
+    start_section,
 )
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable, load_arms
 
@@ -79,6 +80,7 @@ def study_report(
     assessed = [found for found in map(load_assessed, arms) if found is not None]
     gallery = gaits_section(arms, fronts, repertoires, cells, gaits=gaits)
     sections = (
+        start_section(arms),
         first_walk_section(arms),
         fronts_section(arms, fronts, repertoires, cells),
         realism_section(arms, assessed),

@@ -248,8 +248,10 @@ def write_arm(path: Path, runs: list[dict]) -> Path:
         rows = [{"generation": generation, **row} for generation in range(2)]
         for generation, share in enumerate(run.get("walk_shares", ())):
             rows[generation]["mean_walk"] = share
+        for generation, best in enumerate(run.get("bests", ())):
+            rows[generation]["best"] = best
         (directory / "stats.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows))
-        best = {"fitness": 1.0, "status": "ok", "components": {"walk": run["best_walk"]}}
+        best = {"fitness": rows[-1]["best"], "status": "ok", "components": {"walk": run["best_walk"]}}
         (directory / "best.json").write_text(json.dumps(best))
         for name, key in (("front.json", "front"), ("archive.json", "elites")):
             if name in run:
@@ -323,6 +325,24 @@ def test_the_first_walk_is_the_first_generation_whose_population_holds_one(tmp_p
     # Records that do not say (a backend without a walk criterion): no section, not "never".
     silent = write_arm(tmp_path / "silent", [{"best_walk": 1.0}])
     assert first_walk_section([arms[0], load_arm(silent)]) is None
+
+
+def test_where_the_runs_started_is_each_runs_first_generation_best(tmp_path: Path) -> None:
+    from gaitgram.study.model import start_section
+    from gaitgram.study.records import load_arm
+
+    def runs(*bests: list[float]) -> list[dict]:
+        return [{"best_walk": 1.0, "bests": b} for b in bests]
+
+    started = write_arm(tmp_path / "started", runs([0.3, 0.2], [0.5, 0.4]))
+    scratch = write_arm(tmp_path / "scratch", runs([0.9, 0.6], [0.7, 0.5]))
+    section = start_section([load_arm(started), load_arm(scratch)])
+    (table,) = section.tables
+    assert [row[0] for row in table.rows] == ["started", "scratch"]
+    assert [row[2][0] for row in table.rows] == pytest.approx([0.4, 0.8])  # the first generation's medians
+    assert [row[3][0] for row in table.rows] == pytest.approx([0.3, 0.55])  # and the last's
+    (pair,) = section.tests[0].comparison.pairs
+    assert pair.a12 == 1.0  # every started run began below every scratch run
 
 
 def test_an_unreadable_front_is_a_report_error(tmp_path: Path) -> None:
