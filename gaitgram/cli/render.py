@@ -3,6 +3,7 @@ with ``--compare``, beside the walk seed or another run's best gait."""
 
 from __future__ import annotations
 
+import difflib
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -144,7 +145,15 @@ def _check_outputs(output: Path, strip: Path | None, force: bool) -> Path:
 def _gaits(chosen: SelectedGait, compare: str | None) -> tuple[_Gait, _Gait | None]:
     """The chosen gait and, with ``--compare``, the one to show beside it (exit 2 if either is not
     scored by the mujoco-horse backend)."""
-    body = compare if compare in (chosen.pipeline.spec.bodies or {}) else None
+    bodies = chosen.pipeline.spec.bodies or {}
+    body = compare if compare in bodies else None
+    if compare not in (None, SEED) and body is None and not Path(compare).exists():
+        close = difflib.get_close_matches(compare, [SEED, *bodies], n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        raise fail(
+            f"--compare {compare}: no run directory, `{SEED}` or body by that name; {hint}"
+            f"bodies: {', '.join(bodies) or 'none'}"
+        )
     other = None if compare in (None, SEED) or body is not None else _best_of(Path(compare))
     for gait in (chosen, other):
         if gait is not None and gait.pipeline.backend != "mujoco-horse":

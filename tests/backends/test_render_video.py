@@ -85,7 +85,7 @@ def test_a_run_beside_the_seed_and_beside_another_run(tmp_path: Path) -> None:
 
     missing = gaitgram("render", "--run", "r", "--compare", "nowhere", "-o", "x.gif", cwd=tmp_path)
     assert missing.returncode == 2
-    assert "nowhere is not a run directory" in missing.stderr
+    assert "--compare nowhere: no run directory, `seed` or body by that name" in missing.stderr
     assert not (tmp_path / "x.gif").exists()
 
 
@@ -112,6 +112,7 @@ def test_a_run_beside_itself_on_a_smaller_body(tmp_path: Path) -> None:
     assert np.abs(left - right).mean() > 2  # two different pictures
     unknown = gaitgram("render", "--run", "r", "--compare", "shetlnd", "-o", "x.gif", cwd=tmp_path)
     assert unknown.returncode == 2
+    assert "did you mean 'shetland'?" in unknown.stderr
     assert "Traceback" not in unknown.stderr
     assert not (tmp_path / "x.gif").exists()
 
