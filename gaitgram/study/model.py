@@ -469,10 +469,10 @@ def start_section(arms: Sequence[ArmRecord]) -> Section:
 
 
 FIRST_WALK_TEXT = (
-    "The first generation whose population holds a walk (the backend's criterion, every gait as "
-    "scored and, for a candidate, checked over the horizon): how much search each arm needed to "
-    "find one. A run that never finds one counts as one generation after its last in the rank "
-    "tests, behind every run that does."
+    "The first generation whose population holds a walk (the backend's verdict: each "
+    "generation's best candidates are checked over the horizon until one holds): how much search "
+    "each arm needed to find one. A run that never finds one counts as one generation after its "
+    "last in the rank tests, behind every run that does."
 )
 
 
