@@ -105,14 +105,23 @@ def source_error(error: SourceError) -> Styled:
     return out
 
 
-def as_json(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False) -> dict[str, Any]:
+def as_json(
+    diagnostic: Diagnostic,
+    source: SourceText,
+    *,
+    strict: bool = False,
+    edits: dict[TextEdit, dict[str, Any]] | None = None,
+) -> dict[str, Any]:
     """One diagnostic as JSON; lines and columns are 1-based, ``end_column`` is exclusive.
 
     ``fixes`` lists its fixes (``applicability`` safe or unsafe), each edit replacing the text
     between its positions, in the file as read, with ``text``; ``data`` names what it is about.
+    ``edits`` keeps the edits already written for ``source``: a large grammar's fixes share
+    most of theirs (removing a chain of n unreachable rules is in n fixes).
     """
     start = source.location(diagnostic.span.start)
     end = source.location(diagnostic.span.end)
+    known = {} if edits is None else edits
     return {
         "file": source.name,
         "code": diagnostic.code.code,
@@ -131,27 +140,33 @@ def as_json(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False)
                 "title": fix.title,
                 "applicability": fix.applicability.value,
                 "preferred": fix.preferred,
-                "edits": [_json_edit(edit, source) for edit in fix.edits],
+                "edits": [_json_edit(edit, source, known) for edit in fix.edits],
             }
             for fix in diagnostic.fixes
         ],
     }
 
 
-def _json_edit(edit: TextEdit, source: SourceText) -> dict[str, Any]:
-    start, end = source.location(edit.span.start), source.location(edit.span.end)
-    return {
-        "line": start.line,
-        "column": start.column,
-        "end_line": end.line,
-        "end_column": end.column,
-        "text": edit.text,
-    }
+def _json_edit(edit: TextEdit, source: SourceText, known: dict[TextEdit, dict[str, Any]]) -> dict[str, Any]:
+    found = known.get(edit)
+    if found is None:
+        start, end = source.location(edit.span.start), source.location(edit.span.end)
+        found = known[edit] = {
+            "line": start.line,
+            "column": start.column,
+            "end_line": end.line,
+            "end_column": end.column,
+            "text": edit.text,
+        }
+    return found
 
 
 def json_report(checked: Iterable[CheckedFile], *, strict: bool = False) -> str:
     """``gaitgram check --format json``: every diagnostic of every file, in order, as one array."""
-    records = [as_json(d, found.source, strict=strict) for found in checked for d in found.diagnostics]
+    records = []
+    for found in checked:
+        edits: dict[TextEdit, dict[str, Any]] = {}
+        records += [as_json(d, found.source, strict=strict, edits=edits) for d in found.diagnostics]
     return machine_json(records)
 
 

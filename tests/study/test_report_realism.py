@@ -143,7 +143,7 @@ def test_the_sections_show_what_the_runs_keep(made: Path) -> None:
     ge = [r["realism"]["measures"]["stride_frequency"] for r in kept(made / "ge") if r["gait"] == "measured"]
     assert float(measures["stride frequency (Hz)"]["ge"]) == pytest.approx(np.median(ge))
     data = json.loads((out / "summary.json").read_text())
-    assert set(data["sections"]) == {"realism", "robustness"}
+    assert set(data["sections"]) == {"start", "first-walk", "realism", "robustness"}
     assert list(data["sections"]["realism"]["tests"]) == ["realism distance"]
     assert (out / "realism.svg").read_text().count("<svg") == 1
     assert (out / "walk-ge.gif").exists()  # GE's seed 0 hands back a walk: animated, its curves beside
