@@ -3,12 +3,9 @@
 
 from __future__ import annotations
 
-import itertools
-from dataclasses import asdict
 from pathlib import Path
 from typing import Annotated, Any
 
-import numpy as np
 import typer
 from rich.console import Console
 from rich.table import Table
@@ -132,24 +129,15 @@ def _show_runs(run: Path, to: str, results: list[RunBest], verdict: Verdict | No
 
 
 def _summary(results: list[RunBest], verdict: Verdict | None) -> dict[str, Any]:
-    """Per playing, the runs whose best is a walk on the body with Wilson's interval; per pair of
-    playings, which scores lower run by run, with Wilcoxon's signed-rank test (paired by run)."""
     require_extra("scipy", "the intervals and paired tests of retarget --each-run")
-    from gaitgram.study.stats import paired_wilcoxon, wilson_interval
+    from gaitgram.study.stats import paired_summary
 
     names = [name for name, _, _ in results[0].played]
     fitness = {name: [r.played[i][2].fitness for r in results] for i, name in enumerate(names)}
-    summary: dict[str, Any] = {"runs": len(results), "playings": {}, "paired": []}
-    for i, name in enumerate(names):
-        entry: dict[str, Any] = {"median_fitness": float(np.median(fitness[name]))}
-        if verdict is not None:
-            walks = sum(verdict.holds(r.played[i][2]) for r in results)
-            entry |= {"walks": walks, "wilson95": list(wilson_interval(walks, len(results)))}
-        summary["playings"][name] = entry
-    for first, second in itertools.combinations(names, 2):
-        test = paired_wilcoxon(first, second, fitness[first], fitness[second])
-        summary["paired"].append(asdict(test))
-    return summary
+    walks = None
+    if verdict is not None:
+        walks = {name: [verdict.holds(r.played[i][2]) for r in results] for i, name in enumerate(names)}
+    return paired_summary(fitness, walks)
 
 
 def _summary_lines(summary: dict[str, Any], to: str, verdict: Verdict | None) -> list[str]:
@@ -167,6 +155,12 @@ def _summary_lines(summary: dict[str, Any], to: str, verdict: Verdict | None) ->
             f"{test['first_lower']} of {test['pairs']}; Wilcoxon signed-rank W = {test['statistic']:g}, "
             f"p = {test['p_value']:.4g}"
         )
+        if "mcnemar_p" in test and verdict is not None:
+            lines.append(
+                f"  a {verdict.label} under {test['first']} only in {test['walks_first_only']}, under "
+                f"{test['second']} only in {test['walks_second_only']}; "
+                f"McNemar's exact p = {test['mcnemar_p']:.4g}"
+            )
     return lines
 
 

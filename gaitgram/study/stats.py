@@ -13,7 +13,8 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
+from typing import Any
 
 import numpy as np
 
@@ -106,6 +107,46 @@ def paired_wilcoxon(first: str, second: str, a: Sequence[float], b: Sequence[flo
         return PairedTest(first, second, len(x), lower, 0.0, 1.0)
     result = stats.wilcoxon(x, y, alternative="two-sided")
     return PairedTest(first, second, len(x), lower, float(result.statistic), float(result.pvalue))
+
+
+def mcnemar_exact(first_only: int, second_only: int) -> float:
+    """McNemar's exact test of paired yes/no outcomes (a gait that walks one way and not the
+    other): two-sided binomial p of the discordant pairs; 1 when there are none."""
+    from scipy import stats
+
+    discordant = first_only + second_only
+    return float(stats.binomtest(first_only, discordant, 0.5).pvalue) if discordant else 1.0
+
+
+def paired_summary(
+    values: Mapping[str, Sequence[float]], walks: Mapping[str, Sequence[bool]] | None = None
+) -> dict[str, Any]:
+    """The same units (runs) under several treatments (playings): per treatment the median value
+    and, with ``walks``, how many units walk with Wilson's interval; per pair of treatments,
+    which is lower unit by unit (Wilcoxon's signed-rank test) and, with ``walks``, which walks
+    where the other does not (McNemar's exact test)."""
+    names = list(values)
+    summary: dict[str, Any] = {"runs": len(values[names[0]]) if names else 0, "playings": {}, "paired": []}
+    for name in names:
+        entry: dict[str, Any] = {"median_fitness": float(np.median(values[name]))}
+        if walks is not None:
+            count = sum(walks[name])
+            entry |= {"walks": count, "wilson95": list(wilson_interval(count, len(walks[name])))}
+        summary["playings"][name] = entry
+    for first, second in itertools.combinations(names, 2):
+        test: dict[str, Any] = asdict(paired_wilcoxon(first, second, values[first], values[second]))
+        if walks is not None:
+            only = [
+                sum(a and not b for a, b in zip(walks[x], walks[y], strict=True))
+                for x, y in ((first, second), (second, first))
+            ]
+            test |= {
+                "walks_first_only": only[0],
+                "walks_second_only": only[1],
+                "mcnemar_p": mcnemar_exact(*only),
+            }
+        summary["paired"].append(test)
+    return summary
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,7 @@ from gaitgram.cli import app
 from gaitgram.study.model import build_report
 from gaitgram.study.records import load_study_arms
 from gaitgram.study.spec import ScaleDown, StudyError, load_study
-from gaitgram.study.stats import a12, holm, wilson_interval
+from gaitgram.study.stats import a12, holm, mcnemar_exact, paired_summary, wilson_interval
 
 runner = CliRunner()
 
@@ -195,6 +195,21 @@ def test_the_walk_rate_interval_is_wilsons_score_interval(walks: int, runs: int)
     low, high = wilson_interval(walks, runs)
     assert (low, high) == pytest.approx((centre - half, centre + half), abs=1e-12)
     assert 0 <= low <= share <= high <= 1
+
+
+def test_paired_playings_are_compared_run_by_run() -> None:
+    values = {"scaled": [0.1, 0.2, 0.3, 0.4, 0.5, 0.6], "unscaled": [0.2, 0.3, 0.5, 0.6, 0.9, 1.0]}
+    walks = {"scaled": [True] * 5 + [False], "unscaled": [False] * 6}
+    summary = paired_summary(values, walks)
+    assert summary["runs"] == 6
+    assert summary["playings"]["scaled"]["walks"] == 5
+    assert summary["playings"]["scaled"]["wilson95"] == pytest.approx(list(wilson_interval(5, 6)))
+    (pair,) = summary["paired"]
+    assert (pair["first_lower"], pair["walks_first_only"], pair["walks_second_only"]) == (6, 5, 0)
+    assert pair["p_value"] == pytest.approx(stats.wilcoxon(values["scaled"], values["unscaled"]).pvalue)
+    assert pair["mcnemar_p"] == pytest.approx(2 * 0.5**5) == mcnemar_exact(5, 0)
+    assert mcnemar_exact(0, 0) == 1.0
+    assert "walks" not in paired_summary(values)["playings"]["scaled"]
 
 
 def test_the_bundled_paper_studies_load_at_the_table_1_budget_and_scale_down() -> None:
