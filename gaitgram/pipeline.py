@@ -226,9 +226,12 @@ class Pipeline:
             return WORST_FITNESS
         return float(self.spec.unviable_fitness(self.config.backend_settings, self.weights_at(generation)))
 
-    def load_evaluator(self, runtime: Mapping[str, Any] | None = None) -> Evaluator:
+    def load_evaluator(
+        self, runtime: Mapping[str, Any] | None = None, *, horizon: int | None = None
+    ) -> Evaluator:
         """The backend, loaded with the run's settings; ``runtime`` may change only settings that
-        change speed, never a score (``threads``)."""
+        change speed, never a score (``threads``); ``horizon`` checks kept gaits over that many
+        cycles instead of the run's (the backend's ``horizon_setting``)."""
         extra = dict(runtime or {})
         wrong = sorted(set(extra) - self.spec.runtime_settings)
         if wrong:
@@ -237,6 +240,10 @@ class Pipeline:
                 "only these may differ from the run's settings: "
                 f"{', '.join(sorted(self.spec.runtime_settings)) or 'none'}"
             )
+        if horizon is not None:
+            if self.spec.horizon_setting is None:
+                raise PipelineError(f"backend {self.backend!r} checks gaits over no horizon to lengthen")
+            extra[self.spec.horizon_setting] = horizon
         if self.spec.load is None:
             raise PipelineError(f"backend {self.backend!r} declares joints but cannot evaluate gaits")
         try:

@@ -52,6 +52,10 @@ class BackendSpec:
       ``weight_schedule`` for it is refused rather than silently ignored.
     * ``runtime_settings`` change speed, never a score (``threads``): they may
       differ when a run is resumed or re-evaluated.
+    * ``horizon_setting`` names the setting that says over how many cycles
+      ``verify`` checks a gait (``horizon_cycles``): a run's gait may be checked
+      for longer than the run checked it (``evaluate --horizon``); None: the
+      backend's check has no length to change.
     * ``version`` changes whenever the same gait could score differently (a new
       model, a new fitness formula, another simulator release); a function giving it
       is called only when a run records it, so that declaring stays cheap.
@@ -92,6 +96,7 @@ class BackendSpec:
     check_settings: Callable[[Mapping[str, Any]], Mapping[str, Any]] | None = None
     weight_names: Callable[[Mapping[str, Any]], frozenset[str]] | None = None
     runtime_settings: frozenset[str] = field(default_factory=frozenset)
+    horizon_setting: str | None = None
     version: str | Callable[[], str] = ""
     unviable_fitness: Callable[[Mapping[str, Any], Mapping[str, float] | None], float] | None = None
     cycle_frequencies: tuple[float, float] | None = None

@@ -64,10 +64,10 @@ def from_run(
     return SelectedGait(directory.pipeline, genome, at, None, f"{path}, generation {at}")
 
 
-def score(chosen: SelectedGait) -> Individual:
+def score(chosen: SelectedGait, horizon: int | None = None) -> Individual:
     """The gait scored by its pipeline's evaluator as a run keeps a gait: checked over the
-    backend's horizon."""
-    evaluator = chosen.pipeline.load_evaluator()
+    backend's horizon (``horizon`` cycles, if given)."""
+    evaluator = chosen.pipeline.load_evaluator(horizon=horizon)
     try:
         (scored,) = chosen.pipeline.verify([chosen.genome], evaluator, chosen.generation)
     finally:

@@ -185,6 +185,25 @@ def horse_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
+def test_a_runs_best_checked_over_a_longer_horizon(horse_run: Path) -> None:
+    """``evaluate --run DIR --horizon N``: the run's best gait checked over N cycles, not the run's
+    20: the same fitness if it stays up, unviable (exit 1) if it falls before the end."""
+    recorded = runner.invoke(app, ["evaluate", "--run", str(horse_run), "--json"])
+    assert recorded.exit_code == 0, recorded.output
+    longer = runner.invoke(app, ["evaluate", "--run", str(horse_run), "--horizon", "30", "--json"])
+    record = json.loads(longer.stdout)
+    if longer.exit_code == 0:
+        assert record["components"]["checked_cycles"] == 30.0
+        assert record["fitness"] == record["recorded_fitness"] == json.loads(recorded.stdout)["fitness"]
+    else:
+        assert longer.exit_code == 1, longer.output
+        assert record["status"] != "ok"
+    short = runner.invoke(app, ["evaluate", "--run", str(horse_run), "--horizon", "2"])
+    assert short.exit_code == 2
+    assert "horizon_cycles" in short.stderr
+    assert "Traceback" not in short.output
+
+
 def test_a_runs_best_played_on_its_own_body_scores_as_recorded(horse_run: Path) -> None:
     directory = RunDirectory.open(horse_run)
     pipeline = directory.pipeline

@@ -92,6 +92,11 @@ def test_walk_picks_the_best_walk_where_the_best_gait_is_none(arm: Path) -> None
     assert [record["genome"]] == [g["genome"] for g in walkers]
     table = runner.invoke(app, ["evaluate", "--run", str(arm), "--walk"])
     assert "run 0, best walk, generation 2" in table.stderr
+    longer = evaluate("--run", str(arm), "--walk", "--horizon", "40")  # does it stay a walk?
+    held = json.loads(longer.stdout)
+    assert longer.exit_code == (0 if held["status"] == "ok" else 1), longer.stderr
+    if held["status"] == "ok":
+        assert (held["fitness"], held["components"]["checked_cycles"]) == (record["fitness"], 40.0)
 
 
 def test_a_kept_front_is_what_the_run_hands_back(arm: Path) -> None:

@@ -85,6 +85,7 @@ BACKEND = BackendSpec(
     check_settings=check_settings,
     weight_names=lambda settings: WEIGHT_NAMES,
     runtime_settings=frozenset({"threads"}),
+    horizon_setting="horizon_cycles",
     version=_version,
     unviable_fitness=lambda settings, weights: unviable_fitness(
         weights_in_force(weights, settings.get("weights"))
