@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import statistics
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -12,11 +13,12 @@ from rich.table import Table
 
 from gaitgram import jsonio
 from gaitgram.backends.api import Evaluation, Verdict
-from gaitgram.cli.common import fail, require_extra
+from gaitgram.cli.common import fail
 from gaitgram.cli.options import Walk
 from gaitgram.cli.selection import SelectedGait, SelectionError, select_gait
 from gaitgram.evolution.retarget import Retargeted, RetargetError, RunBest, retarget, retarget_runs
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
+from gaitgram.extras import MissingExtra, require
 from gaitgram.pipeline import PipelineError
 
 #: The measures shown for each playing, where the backend reports them.
@@ -129,14 +131,24 @@ def _show_runs(run: Path, to: str, results: list[RunBest], verdict: Verdict | No
 
 
 def _summary(results: list[RunBest], verdict: Verdict | None) -> dict[str, Any]:
-    require_extra("scipy", "the intervals and paired tests of retarget --each-run")
-    from gaitgram.study.stats import paired_summary
-
+    """What the runs say together; without scipy (the stats extra), the counts alone, and how to
+    get the intervals and tests."""
     names = [name for name, _, _ in results[0].played]
     fitness = {name: [r.played[i][2].fitness for r in results] for i, name in enumerate(names)}
     walks = None
     if verdict is not None:
         walks = {name: [verdict.holds(r.played[i][2]) for r in results] for i, name in enumerate(names)}
+    try:
+        require("scipy", "the intervals and paired tests of retarget --each-run")
+    except MissingExtra as missing:
+        playings = {
+            name: {"median_fitness": statistics.median(fitness[name])}
+            | ({} if walks is None else {"walks": sum(walks[name])})
+            for name in names
+        }
+        return {"runs": len(results), "playings": playings, "paired": [], "note": str(missing)}
+    from gaitgram.study.stats import paired_summary
+
     return paired_summary(fitness, walks)
 
 
@@ -144,10 +156,11 @@ def _summary_lines(summary: dict[str, Any], to: str, verdict: Verdict | None) ->
     runs, lines = summary["runs"], []
     for name, entry in summary["playings"].items():
         if verdict is not None:
-            low, high = entry["wilson95"]
+            interval = entry.get("wilson95")
+            wilson = "" if interval is None else f" (Wilson 95 %: {interval[0]:.0%}-{interval[1]:.0%})"
             lines.append(
-                f"{name}: {entry['walks']} of {runs} runs' bests are a {verdict.label} on {to} "
-                f"(Wilson 95 %: {low:.0%}-{high:.0%}); median fitness {entry['median_fitness']:.4g}"
+                f"{name}: {entry['walks']} of {runs} runs' bests are a {verdict.label} on {to}{wilson}; "
+                f"median fitness {entry['median_fitness']:.4g}"
             )
     for test in summary["paired"]:
         lines.append(
@@ -161,6 +174,8 @@ def _summary_lines(summary: dict[str, Any], to: str, verdict: Verdict | None) ->
                 f"{test['second']} only in {test['walks_second_only']}; "
                 f"McNemar's exact p = {test['mcnemar_p']:.4g}"
             )
+    if "note" in summary:
+        lines.append(summary["note"])
     return lines
 
 

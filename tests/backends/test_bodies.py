@@ -262,6 +262,25 @@ def test_retarget_command(horse_run: Path) -> None:
 # --- seeded transfer ---------------------------------------------------------------------------
 
 
+def test_retarget_each_run_without_scipy_gives_the_counts_and_says_how_to_get_the_tests(
+    horse_run: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from gaitgram.cli import retarget as command
+    from gaitgram.extras import MissingExtra
+
+    def missing(module: str, purpose: str) -> None:
+        raise MissingExtra(module, purpose)
+
+    monkeypatch.setattr(command, "require", missing)
+    each = runner.invoke(app, ["retarget", "--run", str(horse_run), "--to", "pony", "--each-run", "--json"])
+    assert each.exit_code in (0, 1), each.output
+    summary = json.loads(each.output)["summary"]
+    assert summary["paired"] == []
+    assert "wilson95" not in summary["playings"]["froude"]
+    assert summary["playings"]["froude"]["walks"] in (0, 1)
+    assert "pip install" in summary["note"]
+
+
 def test_a_run_started_from_another_begins_with_its_final_population(horse_run: Path, tmp_path: Path) -> None:
     config = tmp_path / "pony.toml"
     config.write_text('[backend_settings]\nbody = "pony"\n')
