@@ -15,13 +15,13 @@ from typing import Any
 
 from rich.cells import cell_len
 
-from gaitgram.diagnostics import Diagnostic, Severity, TextEdit
+from gaitgram.collector import without_gc
+from gaitgram.diagnostics import Diagnostic, Fix, Severity
 from gaitgram.language.source import SourceError, SourceText
 
 __all__ = [
     "CheckedFile",
     "Styled",
-    "as_json",
     "effective_severity",
     "human",
     "json_report",
@@ -105,69 +105,76 @@ def source_error(error: SourceError) -> Styled:
     return out
 
 
-def as_json(
-    diagnostic: Diagnostic,
-    source: SourceText,
-    *,
-    strict: bool = False,
-    edits: dict[TextEdit, dict[str, Any]] | None = None,
-) -> dict[str, Any]:
-    """One diagnostic as JSON; lines and columns are 1-based, ``end_column`` is exclusive.
-
-    ``fixes`` lists its fixes (``applicability`` safe or unsafe), each edit replacing the text
-    between its positions, in the file as read, with ``text``; ``data`` names what it is about.
-    ``edits`` keeps the edits already written for ``source``: a large grammar's fixes share
-    most of theirs (removing a chain of n unreachable rules is in n fixes).
-    """
-    start = source.location(diagnostic.span.start)
-    end = source.location(diagnostic.span.end)
-    known = {} if edits is None else edits
-    return {
-        "file": source.name,
-        "code": diagnostic.code.code,
-        "name": diagnostic.code.name,
-        "severity": effective_severity(diagnostic, strict=strict).value,
-        "message": diagnostic.message,
-        "rule": diagnostic.rule,
-        "line": start.line,
-        "column": start.column,
-        "end_line": end.line,
-        "end_column": end.column,
-        "hint": diagnostic.hint,
-        "data": dict(diagnostic.data),
-        "fixes": [
-            {
-                "title": fix.title,
-                "applicability": fix.applicability.value,
-                "preferred": fix.preferred,
-                "edits": [_json_edit(edit, source, known) for edit in fix.edits],
-            }
-            for fix in diagnostic.fixes
-        ],
-    }
-
-
-def _json_edit(edit: TextEdit, source: SourceText, known: dict[TextEdit, dict[str, Any]]) -> dict[str, Any]:
-    found = known.get(edit)
-    if found is None:
-        start, end = source.location(edit.span.start), source.location(edit.span.end)
-        found = known[edit] = {
-            "line": start.line,
-            "column": start.column,
-            "end_line": end.line,
-            "end_column": end.column,
-            "text": edit.text,
-        }
-    return found
-
-
+@without_gc  # its fixes and records are tens of thousands of objects, none of them cyclic
 def json_report(checked: Iterable[CheckedFile], *, strict: bool = False) -> str:
-    """``gaitgram check --format json``: every diagnostic of every file, in order, as one array."""
-    records = []
+    """``gaitgram check --format json``: every diagnostic of every file, in order, as one array,
+    indented two spaces as ``json.dumps(indent=2, ensure_ascii=False)`` would (a property test
+    holds them equal).
+
+    Each diagnostic is an object: ``file``, ``code``, ``name``, ``severity`` (``--strict``
+    applied), ``message``, ``rule``, ``line``, ``column``, ``end_line``, ``end_column`` (1-based,
+    the end exclusive), ``hint``, ``data`` (the names it is about) and ``fixes``: each with
+    ``title``, ``applicability`` (safe or unsafe), ``preferred`` and ``edits``, each edit
+    replacing the text between its positions, in the file as read, with ``text``.
+
+    Written record by record from templates, not built as objects and then serialised: a
+    10,000-rule grammar's report holds 50,000 fix edits, most of them shared (removing a chain of
+    n unreachable rules is in n fixes), and each edit's text is made once per file.
+    """
+    records: list[str] = []
     for found in checked:
-        edits: dict[TextEdit, dict[str, Any]] = {}
-        records += [as_json(d, found.source, strict=strict, edits=edits) for d in found.diagnostics]
-    return machine_json(records)
+        file = f'  {{\n    "file": {encode_basestring(found.source.name)},\n'
+        edits: dict[int, str] = {}  # by id: the diagnostics hold their edits while this runs
+        records += [_json_record(file, d, found.source, strict, edits) for d in found.diagnostics]
+    return _json_list(records, "")
+
+
+def _json_record(
+    file: str, diagnostic: Diagnostic, source: SourceText, strict: bool, edits: dict[int, str]
+) -> str:
+    """One diagnostic, at the array's depth; ``file`` is its opening, written once per file."""
+    line, column, end_line, end_column = source.bounds(*diagnostic.span)
+    text = encode_basestring
+    code = diagnostic.code
+    names = ",\n      ".join(f"{text(key)}: {text(value)}" for key, value in diagnostic.data.items())
+    data = "{\n      " + names + "\n    }" if names else "{}"
+    fixes = _json_list([_json_fix(fix, source, edits) for fix in diagnostic.fixes], "    ")
+    return (
+        f'{file}    "code": {text(code.code)},\n    "name": {text(code.name)},\n'
+        f'    "severity": "{effective_severity(diagnostic, strict=strict).value}",\n'
+        f'    "message": {text(diagnostic.message)},\n'
+        f'    "rule": {"null" if diagnostic.rule is None else text(diagnostic.rule)},\n'
+        f'    "line": {line},\n    "column": {column},\n'
+        f'    "end_line": {end_line},\n    "end_column": {end_column},\n'
+        f'    "hint": {"null" if diagnostic.hint is None else text(diagnostic.hint)},\n'
+        f'    "data": {data},\n'
+        f'    "fixes": {fixes}\n  }}'
+    )
+
+
+def _json_fix(fix: Fix, source: SourceText, edits: dict[int, str]) -> str:
+    written = []
+    for edit in fix.edits:
+        found = edits.get(id(edit))
+        if found is None:
+            line, column, end_line, end_column = source.bounds(*edit.span)
+            found = edits[id(edit)] = (
+                f'          {{\n            "line": {line},\n            "column": {column},\n'
+                f'            "end_line": {end_line},\n            "end_column": {end_column},\n'
+                f'            "text": {encode_basestring(edit.text)}\n          }}'
+            )
+        written.append(found)
+    return (
+        f'      {{\n        "title": {encode_basestring(fix.title)},\n'
+        f'        "applicability": "{fix.applicability.value}",\n'
+        f'        "preferred": {"true" if fix.preferred else "false"},\n'
+        f'        "edits": {_json_list(written, "        ")}\n      }}'
+    )
+
+
+def _json_list(items: list[str], indent: str) -> str:
+    """Items already written at their depth, as the array that holds them (at ``indent``)."""
+    return "[\n" + ",\n".join(items) + "\n" + indent + "]" if items else "[]"
 
 
 def machine_json(value: Any) -> str:

@@ -96,7 +96,7 @@ def removal(text: str, start: int, end: int) -> Span:
 def union(spans: Iterable[Span]) -> list[Span]:
     """Overlapping or touching spans merged: what deleting all of them deletes."""
     merged: list[Span] = []
-    for span in sorted(spans, key=lambda s: (s.start, s.end)):
+    for span in sorted(spans):  # spans are tuples: by start, then end
         if merged and span.start <= merged[-1].end:
             merged[-1] = Span(merged[-1].start, max(merged[-1].end, span.end))
         else:

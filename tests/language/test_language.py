@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from gaitgram.analysis import check
 from gaitgram.language import parse
 from gaitgram.language.model import NonTerminal, RangeSymbol, Terminal
-from gaitgram.language.source import Span, decode_source, encode_as_read, normalize_newlines
+from gaitgram.language.source import SourceText, Span, decode_source, encode_as_read, normalize_newlines
 
 
 def codes(text: str) -> list[str]:
@@ -120,6 +120,13 @@ def test_quoted_terminals_and_escapes_are_unicode_correct() -> None:
     assert not grammar.diagnostics
     texts = [alt.symbols[0].text for alt in grammar.rules[0].alternatives]
     assert texts == ["é|#", "<b>", "é\t", "naïve\n", "α"]
+
+
+@given(st.text(alphabet="ab\n\r", max_size=12), st.integers(-3, 15), st.integers(-3, 15))
+def test_bounds_are_the_locations_of_both_ends(text: str, start: int, end: int) -> None:
+    source = SourceText(text)
+    first, last = source.location(start), source.location(end)
+    assert source.bounds(start, end) == (first.line, first.column, last.line, last.column)
 
 
 def test_spans_point_at_the_source() -> None:

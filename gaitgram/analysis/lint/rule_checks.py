@@ -306,7 +306,8 @@ class _Removals:
         self.users = {name: {user.name for user in found} for name, found in users.items()}
         self.definitions = definitions
         self._with: dict[str, frozenset[str] | None] = {}  # None: no fix
-        self._spans: dict[int, Span] = {}  # by id(rule): a chain of n rules is in n fixes
+        self._spans: dict[str, list[Span]] = {}  # each name's definitions: a chain of n rules is in n fixes
+        self._edits: dict[Span, TextEdit] = {}  # one object per edit, however many fixes hold it
 
     def removed_with(self, name: str) -> frozenset[str] | None:
         """``name`` and the unreachable rules that use it, or None if they cannot all go."""
@@ -343,20 +344,24 @@ class _Removals:
         removed = self.removed_with(name)
         if removed is None:
             return []
-        text = self.grammar.source.text
         spans = []
-        for rule in (rule for n in sorted(removed) for rule in self.definitions[n]):
-            span = self._spans.get(id(rule))
-            if span is None:
-                span = self._spans[id(rule)] = _rule_removal(text, rule)
-            spans.append(span)
-        if len(spans) > 1:
-            spans = union(spans)
+        for n in removed:
+            found = self._spans.get(n)
+            if found is None:
+                text = self.grammar.source.text
+                found = self._spans[n] = [_rule_removal(text, rule) for rule in self.definitions[n]]
+            spans += found
+        edits = []
+        for span in union(spans) if len(spans) > 1 else spans:
+            edit = self._edits.get(span)
+            if edit is None:
+                edit = self._edits[span] = TextEdit(span, "")
+            edits.append(edit)
         others = len(removed) - 1
         title = f"Remove unreachable <{name}>"
         if others:
             title += f" and the {'rule' if others == 1 else f'{others} rules'} using it"
-        return [Fix(title, tuple(TextEdit(s, "") for s in spans), Applicability.UNSAFE, preferred=True)]
+        return [Fix(title, tuple(edits), Applicability.UNSAFE, preferred=True)]
 
 
 def unit_rule_chains(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
