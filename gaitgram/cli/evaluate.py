@@ -89,17 +89,7 @@ def command(
         "backend_settings": _settings(setting) or None,
     }
     try:
-        chosen = select_gait(
-            run=run,
-            grammar=grammar,
-            genome=genome,
-            genome_file=genome_file,
-            generation=generation,
-            config=config,
-            overrides=overrides,
-            defines=defines,
-            walk=walk,
-        )
+        chosen = select_gait(run, grammar, genome, genome_file, generation, config, overrides, defines, walk)
         scored = score(chosen, horizon)
     except (SelectionError, PipelineError) as error:
         raise fail(str(error)) from None

@@ -105,17 +105,7 @@ def command(
     strip = _check_outputs(output, strip, force)
     overrides = {"codons": codons.value if codons is not None else None, "max_wraps": max_wraps}
     try:
-        chosen = select_gait(
-            run=run,
-            grammar=grammar,
-            genome=genome,
-            genome_file=genome_file,
-            generation=generation,
-            config=config,
-            overrides=overrides,
-            defines=defines,
-            walk=walk,
-        )
+        chosen = select_gait(run, grammar, genome, genome_file, generation, config, overrides, defines, walk)
         shown, beside = _gaits(chosen, compare)
     except SelectionError as error:
         raise fail(str(error)) from None

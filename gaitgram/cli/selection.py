@@ -52,7 +52,6 @@ _FLAGS = {
 
 
 def select_gait(
-    *,
     run: Path | None,
     grammar: Path | None = None,
     genome: str | None = None,
