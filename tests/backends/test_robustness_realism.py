@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -10,7 +11,7 @@ import pytest
 from conftest import ROOT
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
 from gaitgram.backends.mujoco_horse.joints import CATALOGUE
-from gaitgram.backends.mujoco_horse.realism import CURVES, MEASURES, _scores, assess, real_walks
+from gaitgram.backends.mujoco_horse.realism import CURVES, MEASURES, _scores, assess, mean_phases, real_walks
 from gaitgram.backends.mujoco_horse.robustness import (
     BUMP_HEIGHT,
     DISTURBANCES,
@@ -113,3 +114,12 @@ def test_the_seed_is_measured_beside_the_real_walks() -> None:
     for name in CURVES:
         assert seed.curves[name].shape == (20,)
         assert np.ptp(seed.curves[name]) > 10  # the limbs swing
+
+
+def test_a_hoof_that_never_lands_leaves_its_phase_unmeasured_without_a_warning() -> None:
+    phases = np.array([[0.0, 0.25, np.nan, 0.75], [0.0, 0.27, np.nan, np.nan]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # numpy's "Mean of empty slice" reached the user's terminal
+        mean = mean_phases(phases)
+        assert np.isnan(mean_phases(np.empty((0, 4)))).all()
+    np.testing.assert_array_equal(mean, [0.0, 0.26, np.nan, 0.75])

@@ -163,6 +163,16 @@ def _at_speed(scored: Any, evaluator: HorseEvaluator) -> dict[str, float]:
     }
 
 
+def mean_phases(phases: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Each hoof's mean footfall phase over the cycles (rows) that have one; NaN, quietly, for a
+    hoof that never has one (a gait that drags a hoof), which makes the gait unmeasurable."""
+    mean = np.full(len(HOOVES), math.nan)
+    if len(phases):
+        seen = np.isfinite(phases).any(axis=0)
+        mean[seen] = np.nanmean(phases[:, seen], axis=0)
+    return mean
+
+
 def _realism(
     scored: Any, recording: Any, curves: dict[str, NDArray[np.float64]], start: int, end: int, gap: int
 ) -> Realism | None:
@@ -185,7 +195,7 @@ def _realism(
                 for s in mine
             ]
             stride_curves[name] = np.mean(runs, axis=0)
-    phases = np.nanmean(scored.phases, axis=0) if len(scored.phases) else np.full(len(HOOVES), math.nan)
+    phases = mean_phases(scored.phases)
     measures = {
         "duty_factor": float(scored.duty_factor.mean()),
         "phase_fore_left": float(phases[HOOVES.index("fore_left")]),
