@@ -9,7 +9,11 @@ from __future__ import annotations
 import tomllib
 from dataclasses import dataclass
 from functools import cached_property
-from importlib.resources.abc import Traversable
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # a plug-in may pass its package data as importlib.resources gives it
+    from importlib.resources.abc import Traversable
 
 __all__ = ["CatalogueError", "Joint", "JointCatalogue", "load_catalogue"]
 
@@ -48,7 +52,7 @@ class CatalogueError(ValueError):
     pass
 
 
-def load_catalogue(resource: Traversable) -> JointCatalogue:
+def load_catalogue(resource: Path | Traversable) -> JointCatalogue:
     """Read a catalogue TOML file: a list of ``[[joint]]`` tables."""
     try:
         data = tomllib.loads(resource.read_text(encoding="utf-8"))

@@ -7,18 +7,18 @@ import os
 import re
 import sys
 from functools import cache
-from importlib.resources import files
 from pathlib import Path
 
 import lark
 from lark import Lark, Token, Tree
 
 from gaitgram.language.lexer import GgLexer, KeepScannerTerminals, Scanner
+from gaitgram.packaged import packaged
 
 
 @cache
 def grammar_text() -> str:
-    return files("gaitgram.language").joinpath("gaitgram.lark").read_text(encoding="utf-8")
+    return packaged(__package__, "gaitgram.lark").read_text(encoding="utf-8")
 
 
 def cache_file(name: str) -> str | bool:

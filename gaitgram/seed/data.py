@@ -15,12 +15,13 @@ import csv
 import io
 import math
 from dataclasses import dataclass
-from importlib.resources import as_file, files
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
+
+from gaitgram.packaged import packaged
 
 if TYPE_CHECKING:
     from gaitgram.motion.gait import MotionBatch
@@ -170,5 +171,4 @@ def _is_float(cell: str) -> bool:
 
 def load_seed() -> SeedCurves:
     """The shipped walk seed (package data; ``seeds/horse_walk.csv`` in the repository is the same)."""
-    with as_file(files("gaitgram.seed").joinpath("horse_walk.csv")) as path:
-        return read_seed_csv(path)
+    return read_seed_csv(packaged(__package__, "horse_walk.csv"))

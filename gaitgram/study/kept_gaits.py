@@ -26,11 +26,11 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cache
-from importlib.resources import files
 from typing import Any
 
 import numpy as np
 
+from gaitgram.packaged import packaged
 from gaitgram.study.assess import ASSESSMENT, BEST_WALK, FORMAT, MEASURED_ON, assessment_path, kept_key
 from gaitgram.study.model import Column, Figure, Kind, RankTests, Section, Table, figure_name
 from gaitgram.study.records import ArmRecord, ReportError
@@ -49,7 +49,7 @@ CURVE_TITLES = {
 @cache
 def real_walks() -> dict[str, Any]:
     """The DLC_Horse summary gaitgram ships (``seeds/dlc_walk.json``)."""
-    return json.loads(files("gaitgram.seed").joinpath("dlc_walk.json").read_text(encoding="utf-8"))
+    return json.loads(packaged("gaitgram.seed", "dlc_walk.json").read_text(encoding="utf-8"))
 
 
 # ---- what the runs keep ------------------------------------------------------------------------

@@ -70,10 +70,10 @@ def test_check_of_a_horse_grammar_imports_no_numpy() -> None:
 
 
 def test_check_to_a_pipe_starts_without_rich_consoles_pydantic_or_package_metadata() -> None:
-    # Each of these cost `gaitgram check` 15-60 ms of its start-up (issue 28's 150 ms): a console
+    # Each of these cost `gaitgram check` 8-60 ms of its start-up (issue 28's 150 ms): a console
     # only colours a terminal, typer 0.29's coercion imports pydantic, importlib.metadata is read
-    # only to record versions or list plug-ins.
-    watched = ("rich.console", "rich.text", "pydantic", "importlib.metadata")
+    # only to record versions or list plug-ins, and package data is read by path (`packaged`).
+    watched = ("rich.console", "rich.text", "pydantic", "importlib.metadata", "importlib.resources")
     status, found = imported("check", str(GRAMMARS / "sine-walk.gg"), watched=watched)
     assert status == 0
     assert found == []

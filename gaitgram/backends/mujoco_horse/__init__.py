@@ -6,7 +6,6 @@ import hashlib
 from collections.abc import Mapping
 from dataclasses import asdict
 from functools import cache
-from importlib.resources import files
 from typing import Any
 
 from gaitgram.backends.api import Verdict
@@ -21,6 +20,7 @@ from gaitgram.backends.mujoco_horse.targets import (
     unviable_fitness,
 )
 from gaitgram.backends.registry import BackendSpec
+from gaitgram.packaged import packaged
 
 #: What a viable gait's evaluation reports (evaluator.py's ``_judge``; a test keeps them equal).
 COMPONENTS = WEIGHT_NAMES | {
@@ -69,7 +69,7 @@ def _version() -> str:
 
     digest = hashlib.sha256()
     for name in ("horse.xml", "joints.toml"):
-        digest.update(files(__name__).joinpath(name).read_bytes())
+        digest.update(packaged(__name__, name).read_bytes())
     try:
         simulator = version("mujoco")
     except PackageNotFoundError:  # pragma: no cover - mujoco is a core dependency

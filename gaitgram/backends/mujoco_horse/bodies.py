@@ -9,9 +9,10 @@ from __future__ import annotations
 import difflib
 import tomllib
 from dataclasses import dataclass
-from importlib.resources import files
 from types import MappingProxyType
 from typing import Any
+
+from gaitgram.packaged import packaged
 
 #: How a gait played on another body is timed (``retarget.py``): its cycle frequency scaled by
 #: dynamic similarity, or the frequency it was evolved at.
@@ -88,7 +89,7 @@ def _body(name: str, table: dict[str, Any]) -> Body:
 
 
 def _load() -> MappingProxyType[str, Body]:
-    text = files(__package__).joinpath("bodies.toml").read_text(encoding="utf-8")
+    text = packaged(__package__, "bodies.toml").read_text(encoding="utf-8")
     bodies = {name: _body(name, table) for name, table in tomllib.loads(text).items()}
     if REFERENCE_BODY not in bodies:
         raise ValueError(f"bodies.toml must define the reference body [{REFERENCE_BODY}]")

@@ -3,8 +3,7 @@ limits and freedom schedule. Read by the linter and the model alike, without MuJ
 
 from __future__ import annotations
 
-from importlib.resources import files
-
 from gaitgram.backends.catalogue import load_catalogue
+from gaitgram.packaged import packaged
 
-CATALOGUE = load_catalogue(files(__package__).joinpath("joints.toml"))
+CATALOGUE = load_catalogue(packaged(__package__, "joints.toml"))

@@ -15,7 +15,6 @@ import copy
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cache
-from importlib.resources import files
 from types import MappingProxyType
 
 import mujoco
@@ -25,6 +24,7 @@ from gaitgram.backends.catalogue import JointCatalogue
 from gaitgram.backends.mujoco_horse.bodies import body_named
 from gaitgram.backends.mujoco_horse.joints import CATALOGUE
 from gaitgram.backends.mujoco_horse.scaling import scaled_spec
+from gaitgram.packaged import packaged
 
 #: The four limbs, named as the suffix of their joints (``hip_hind_left``), in the
 #: walk's lateral footfall sequence: hind left, fore left, hind right, fore right.
@@ -37,7 +37,7 @@ _XML = "horse.xml"
 
 
 def _xml() -> str:
-    return files(__package__).joinpath(_XML).read_text(encoding="utf-8")
+    return packaged(__package__, _XML).read_text(encoding="utf-8")
 
 
 @cache

@@ -29,7 +29,6 @@ import json
 import math
 from dataclasses import dataclass, field, replace
 from functools import cache
-from importlib.resources import files
 from typing import Any
 
 import mujoco
@@ -42,6 +41,7 @@ from gaitgram.backends.mujoco_horse.model import STATE_SPEC
 from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles
 from gaitgram.backends.mujoco_horse.targets import G, duty_factor_for
 from gaitgram.motion.gait import MotionBatch
+from gaitgram.packaged import packaged
 
 #: Phases at which the real walks' curves are given.
 CURVE_SAMPLES = 20
@@ -69,7 +69,7 @@ _LIMBS = {  # curve end -> (hoof index in HOOVES, fetlock, upper, body landmark)
 @cache
 def real_walks() -> dict[str, Any]:
     """The DLC_Horse summary shipped with gaitgram (``seeds/dlc_walk.json``)."""
-    return json.loads(files("gaitgram.seed").joinpath("dlc_walk.json").read_text(encoding="utf-8"))
+    return json.loads(packaged("gaitgram.seed", "dlc_walk.json").read_text(encoding="utf-8"))
 
 
 @dataclass(frozen=True)
