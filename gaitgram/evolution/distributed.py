@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import socket
 import threading
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -113,7 +114,8 @@ def _identify_scheduler(address: str, flag: str, timeout: float) -> None:
             return await asyncio.wait_for(scheduler.identity(), timeout)
 
     try:
-        answer = asyncio.run(identity())
+        refused = _refused(address, timeout)
+        answer = None if refused else asyncio.run(identity())
     except ValueError as error:
         raise ClusterError(
             f"{flag}: not a scheduler address ({error}); give it as tcp://HOST:PORT (the address "
@@ -129,12 +131,36 @@ def _identify_scheduler(address: str, flag: str, timeout: float) -> None:
             f"{flag}: what answered there is not a Dask scheduler ({type(error).__name__}: {error}); "
             "check the address and port"
         ) from None
+    if refused:
+        raise ClusterError(
+            f"{flag}: nothing listens at {refused} (connection refused); start a scheduler there "
+            "with `dask scheduler` and its workers with `dask worker ADDRESS`, or check the address"
+        )
     if not isinstance(answer, dict) or answer.get("type") != "Scheduler":
         kind = answer.get("type") if isinstance(answer, dict) else None
         raise ClusterError(
             f"{flag}: what answered there is a Dask {kind or 'server'}, not a scheduler; give the "
             "scheduler's address"
         )
+
+
+def _refused(address: str, timeout: float) -> str | None:
+    """``HOST:PORT`` of a ``tcp://`` address where nothing listens, said at once: Dask's own
+    connection retries a refused one until its timeout. None: something answers, or the address
+    is of another kind (Dask then says what is wrong). A malformed address is a ValueError."""
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    scheme, location = parse_address(address)
+    if scheme != "tcp":
+        return None
+    host, port = parse_host_port(location)
+    try:
+        socket.create_connection((host, port), timeout=timeout).close()
+    except ConnectionRefusedError:
+        return location
+    except OSError:  # unreachable, timed out: Dask's attempt reports it with its timeout
+        return None
+    return None
 
 
 @cache

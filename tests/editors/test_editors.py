@@ -186,6 +186,7 @@ def npm_tools(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return folder / "node_modules"
 
 
+@pytest.mark.slow  # installs npm packages from the registry: 10 s or more
 def test_the_textmate_grammar_scopes_every_token_of_every_bundled_grammar(npm_tools: Path) -> None:
     files = sorted((ROOT / "grammars").glob("*.gg")) + sorted((ROOT / "tests/data/ponyge2").glob("*.bnf"))
     done = subprocess.run(
@@ -216,6 +217,7 @@ def test_the_textmate_grammar_scopes_every_token_of_every_bundled_grammar(npm_to
         assert f"{scope}.gaitgram" in hybrid, scope
 
 
+@pytest.mark.slow  # installs npm packages from the registry: 10 s or more
 def test_the_vscode_extension_packages_with_vsce(npm_tools: Path, tmp_path: Path) -> None:
     extension = tmp_path / "vscode"
     shutil.copytree(VSCODE, extension, ignore=shutil.ignore_patterns("node_modules", "*.vsix"))
