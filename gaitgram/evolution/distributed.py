@@ -146,20 +146,18 @@ def _identify_scheduler(address: str, flag: str, timeout: float) -> None:
 
 def _refused(address: str, timeout: float) -> str | None:
     """``HOST:PORT`` of a ``tcp://`` address where nothing listens, said at once: Dask's own
-    connection retries a refused one until its timeout. None: something answers, or the address
-    is of another kind (Dask then says what is wrong). A malformed address is a ValueError."""
+    connection retries a refused one until its timeout. None: something accepts connections
+    there, or the address is of another kind (Dask's attempt then says what is wrong). A
+    malformed address is a ValueError; a host that does not answer in time, an OSError."""
     from distributed.comm.addressing import parse_address, parse_host_port
 
     scheme, location = parse_address(address)
     if scheme != "tcp":
         return None
-    host, port = parse_host_port(location)
     try:
-        socket.create_connection((host, port), timeout=timeout).close()
+        socket.create_connection(parse_host_port(location), timeout=timeout).close()
     except ConnectionRefusedError:
         return location
-    except OSError:  # unreachable, timed out: Dask's attempt reports it with its timeout
-        return None
     return None
 
 
