@@ -180,8 +180,8 @@ def _json_list(items: list[str], indent: str) -> str:
 def machine_json(value: Any) -> str:
     """JSON text of a report, exactly as ``json.dumps(value, indent=2, ensure_ascii=False,
     allow_nan=False)`` writes it (a property test holds them equal), three times as fast: the
-    standard library indents with its pure-Python encoder, which was a third of ``check --format
-    sarif``'s time on a large grammar. A report holds text, whole numbers, flags, None, lists and
+    standard library indents with its pure-Python encoder (``check --format sarif`` of a large
+    grammar writes megabytes). A report holds text, whole numbers, flags, None, lists and
     dicts with text keys; a non-finite float is refused as ``allow_nan=False`` refuses it."""
     parts: list[str] = []
     _write_json(value, "\n", parts)
