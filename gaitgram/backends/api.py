@@ -89,13 +89,16 @@ class Verdict:
     ``component`` is the 0/1 component that holds it; ``terms`` are the 0/1 components it is the
     conjunction of, in the order a report lists them (so a report can say *why* a gait fails it);
     ``pending`` is the term only a check over the horizon can establish (the evaluator's
-    ``verify``): a gait with every other term is a *candidate*, worth that check.
+    ``verify``): a gait with every other term is a *candidate*, worth that check. ``version``
+    names the judgement's revision (``"v2"``), which a report records beside the counts it made
+    with it: a revised criterion counts differently.
     """
 
     component: str
     label: str
     terms: tuple[str, ...] = ()
     pending: str | None = None
+    version: str = ""
 
     def holds(self, evaluation: Evaluation) -> bool:
         return self.holds_in(evaluation.components, viable=evaluation.status.viable)

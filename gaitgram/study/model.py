@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from gaitgram.backends.api import Verdict
 from gaitgram.strategies.kept import Front, Repertoire
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable
 from gaitgram.study.stats import Comparison, bootstrap_median_ci, compare, wilson_interval
@@ -516,6 +517,20 @@ def first_walk_section(arms: Sequence[ArmRecord]) -> Section | None:
 # ---- the report ------------------------------------------------------------------------------
 
 
+def verdict_json(verdict: Verdict | None) -> dict[str, Any] | None:
+    """What the walk counts of a report mean: the backend's verdict (``walk``), the revision of its
+    criterion (``v2``) and its terms, as this code declares them; ``backend_version`` beside it
+    says which fitness revision scored the runs, and so which criterion their recorded terms are of."""
+    if verdict is None:
+        return None
+    return {
+        "component": verdict.component,
+        "label": verdict.label,
+        "version": verdict.version,
+        "terms": list(verdict.terms),
+    }
+
+
 @dataclass(frozen=True)
 class StudyReport:
     arms: tuple[ArmRecord, ...]
@@ -553,6 +568,7 @@ class StudyReport:
         data: dict[str, Any] = {
             "backend": self.arms[0].backend,
             "backend_version": self.arms[0].backend_version,
+            "verdict": verdict_json(self.arms[0].verdict),
             "arms": [
                 {
                     "name": s.name,

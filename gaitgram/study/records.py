@@ -77,6 +77,8 @@ class ArmRecord:
     #: still running); empty: the runs are 0, 1, ... in order.
     run_numbers: tuple[int, ...] = ()
     planned_runs: int = 0  # the runs the arm will have (0: as many as it has)
+    #: The backend's verdict the walks were counted with (None: it declares none).
+    verdict: Verdict | None = None
 
     @property
     def numbers(self) -> tuple[int, ...]:
@@ -166,6 +168,7 @@ def load_arm(
         version,
         tuple(numbers) if finished_only else (),
         config.runs,
+        verdict,
     )
 
 

@@ -17,6 +17,7 @@ from gaitgram.backends.mujoco_horse.targets import (
     DEFAULT_WEIGHTS,
     TASK_REVISION,
     WALK_COMPONENTS,
+    WALK_CRITERION,
     unviable_fitness,
 )
 from gaitgram.backends.registry import BackendSpec
@@ -94,7 +95,7 @@ BACKEND = BackendSpec(
     objectives=scored_components,
     # From a slow walk to a fast trot: speed (m/s) and the share of the cycle a hoof is down.
     descriptors={"measured_velocity": (0.0, 3.0), "measured_duty_factor": (0.3, 0.9)},
-    verdict=Verdict("walk", "walk", WALK_COMPONENTS, "walk_sustained"),
+    verdict=Verdict("walk", "walk", WALK_COMPONENTS, "walk_sustained", WALK_CRITERION),
     components=lambda settings: COMPONENTS,
     bodies={name: body.summary for name, body in BODIES.items()},
     retarget=retarget,

@@ -80,6 +80,10 @@ CYCLE_FREQUENCIES = (0.3, 3.0)
 
 # ---- walk criterion v2 -------------------------------------------------------------------------
 
+#: The criterion's revision, recorded by reports (v2 came with fitness revision 4: docs/fitness.md).
+WALK_CRITERION = "v2"
+
+
 #: Speed: every measured cycle within this share of the target speed.
 WALK_SPEED_TOLERANCE = 0.10
 #: Duty factor (mean over the hooves, every cycle) from the lower quartile of the DLC_Horse walks
