@@ -1,0 +1,32 @@
+"""The committed studies under docs/results (issue 26): each current report has its README and
+its page, and its summary.json says what scored the runs and which walk criterion counted them,
+both this code's. Superseded revisions live under docs/results/revision-N, marked so."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+from gaitgram.backends.mujoco_horse.targets import TASK_REVISION, WALK_CRITERION
+
+RESULTS = ROOT / "docs" / "results"
+CURRENT = sorted(
+    path.parent for path in RESULTS.glob("*/summary.json") if not path.parent.name.startswith("revision-")
+)
+
+
+def test_the_current_studies_are_there() -> None:
+    assert {"strategies", "table4", "table5"} <= {study.name for study in CURRENT}
+
+
+@pytest.mark.parametrize("study", CURRENT, ids=lambda study: study.name)
+def test_a_current_report_says_what_scored_it_and_how_walks_were_counted(study: Path) -> None:
+    assert (study / "README.md").is_file()
+    assert (study / "report.html").is_file()
+    summary = json.loads((study / "summary.json").read_text(encoding="utf-8"))
+    assert summary["backend"] == "mujoco-horse"
+    assert f"fitness r{TASK_REVISION}," in summary["backend_version"]
+    assert summary["verdict"]["version"] == WALK_CRITERION
