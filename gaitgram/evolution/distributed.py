@@ -127,9 +127,14 @@ def _identify_scheduler(address: str, flag: str, timeout: float) -> None:
             "one with `dask scheduler` and its workers with `dask worker ADDRESS`, or check the address"
         ) from None
     except Exception as error:  # something else listens there and answered in its own protocol
+        # Its first bytes read as a Dask frame's length make Dask ask for exabytes: say so plainly.
+        why = (
+            "it does not speak Dask's protocol"
+            if isinstance(error, MemoryError)
+            else f"{type(error).__name__}: {error}"
+        )
         raise ClusterError(
-            f"{flag}: what answered there is not a Dask scheduler ({type(error).__name__}: {error}); "
-            "check the address and port"
+            f"{flag}: what answered there is not a Dask scheduler ({why}); check the address and port"
         ) from None
     if refused:
         raise ClusterError(

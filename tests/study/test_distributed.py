@@ -10,6 +10,7 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -212,3 +213,35 @@ def test_a_scheduler_that_is_not_there_is_refused_before_anything_is_made(
     assert evolve.returncode == 2
     assert f"--scheduler {address}: {said}" in evolve.stderr
     assert not out.exists()
+
+
+@pytest.fixture
+def web_server() -> Iterator[str]:
+    """A server on a free local port that answers every connection in HTTP, not Dask."""
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen()
+
+    def serve() -> None:
+        while True:
+            try:
+                connection, _ = server.accept()
+            except OSError:  # closed: the test is over
+                return
+            with connection:
+                connection.sendall(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
+
+    threading.Thread(target=serve, daemon=True).start()
+    yield f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    server.shutdown(socket.SHUT_RDWR)  # wakes the accept (a close alone would not, on Linux)
+    server.close()
+
+
+def test_something_else_listening_there_is_refused_plainly(tmp_path: Path, web_server: str) -> None:
+    study = write_study(tmp_path)
+    result = gaitgram("study", str(study), "-o", str(tmp_path / "out"), "-q", "--scheduler", web_server)
+    assert result.returncode == 2, result.stderr
+    assert f"--scheduler {web_server}: what answered there is not a Dask scheduler" in result.stderr
+    assert "MemoryError" not in result.stderr  # Dask's reading of an HTTP reply as a frame length
+    assert "Traceback" not in result.stderr
+    assert not (tmp_path / "out").exists()
