@@ -33,7 +33,8 @@ ASSESSMENT = "assessment.json"
 #: ``--gaits`` animates; it may be no run's best gait).
 BEST_WALK = "best-walk-assessment.json"
 #: Raised when what is measured, or how, changes: every kept assessment is then stale.
-FORMAT = 1
+#: 2: the bumps are ten floors, and each trial keeps on how many it was played and held.
+FORMAT = 2
 #: The backend whose gaits are measured.
 MEASURED_ON = "mujoco-horse"
 
@@ -169,6 +170,8 @@ def measure(settings: dict[str, Any], batch: Any) -> list[dict[str, Any]]:
                     "upright": trials[d.name][k].upright,
                     "walking": trials[d.name][k].walking,
                     "detail": trials[d.name][k].detail,
+                    "floors": trials[d.name][k].floors,
+                    "held": trials[d.name][k].held,
                 }
                 for d in DISTURBANCES
             ],

@@ -62,6 +62,8 @@ class Trial:
     upright: bool
     walking: bool
     detail: str | None
+    floors: int  # how many floors the gait was played on (the bumps: several, each seeded)
+    held: int  # on how many of them it held
 
     @property
     def holds(self) -> bool:
@@ -161,6 +163,10 @@ def _number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
 
 
+def _count(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
+
+
 def _assessed(kept: dict[str, Any], run: int, walk: bool | None, path: Any, arm: ArmRecord) -> Assessed:
     """A kept assessment, checked field by field (a number may be null: no value)."""
 
@@ -208,11 +214,25 @@ def _assessed(kept: dict[str, Any], run: int, walk: bool | None, path: Any, arm:
             and isinstance(trial.get("upright"), bool)
             and isinstance(trial.get("walking"), bool)
             and (trial.get("detail") is None or isinstance(trial.get("detail"), str))
+            and _count(trial.get("floors"))
+            and _count(trial.get("held"))
+            and trial["floors"] > 0
+            and trial["held"] <= trial["floors"]
+            and (trial["held"] == trial["floors"]) == (trial["upright"] and trial["walking"])
         ):
-            raise damaged("trials: a trial is not a disturbance, its description, upright, walking, detail")
+            raise damaged(
+                "trials: a trial is not a disturbance, its description, upright, walking, detail, "
+                "floors and held (no more than floors, all of them when it holds)"
+            )
         checked.append(
             Trial(
-                trial["disturbance"], trial["describe"], trial["upright"], trial["walking"], trial["detail"]
+                trial["disturbance"],
+                trial["describe"],
+                trial["upright"],
+                trial["walking"],
+                trial["detail"],
+                trial["floors"],
+                trial["held"],
             )
         )
     fitness = kept.get("fitness")
@@ -506,22 +526,34 @@ def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed
             for t in g.trials:
                 disturbances.setdefault(t.disturbance, t.describe)
     names = list(disturbances)
+    floored = [n for n in names if any((t := _trial(g, n)) and t.floors > 1 for a in tried for g in a.found)]
     text = (
         "Each run's best gait played from the standing horse to the horizon under each disturbance: "
         + "; ".join(f"**{n}**: {d}" for n, d in disturbances.items())
         + ". A gait **holds** when it stays upright for the whole horizon and is walking again by the walk "
-        "criterion over the horizon's last cycles (docs/study.md). Shares are of the runs' best gaits "
-        "measured; *walk*: the best gait is a walk undisturbed. " + ASSESS_TEXT
+        "criterion over the horizon's last cycles (docs/study.md)"
+        + (", on every floor where it is played on several" if floored else "")
+        + ". Shares are of the runs' best gaits measured; *walk*: the best gait is a walk undisturbed"
+        + (
+            "; *floors held*: the mean share of the floors on which a gait holds (one seeded floor is "
+            "one sample of uneven ground)"
+            if floored
+            else ""
+        )
+        + ". "
+        + ASSESS_TEXT
     )
     columns = [
         Column("arm", "arm", Kind.TEXT),
         Column("measured", "measured", Kind.COUNT),
         Column("walk", "walk", Kind.SHARE),
         *(Column(f"holds_{n}", f"holds: {n}", Kind.SHARE) for n in names),
+        *(Column(f"floors_held_{n}", f"{n}: floors held", Kind.SHARE) for n in floored),
         Column("holds_all", "holds all", Kind.SHARE),
         Column("walk_holds_all", "walk, holds all", Kind.SHARE),
     ]
     rows = []
+    not_held: dict[str, dict[str, list[float]]] = {n: {} for n in floored}
     for a in assessed:
         found = a.found
         n = len(found)
@@ -530,6 +562,7 @@ def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed
             return sum(flags) / n if n else None
 
         holds = {t: [_holds(g, t) for g in found] for t in names}
+        held = {t: [_floors_held(g, t) for g in found] for t in floored}
         every = [all(_holds(g, t) for t in names) for g in found]
         walks = [g.walk for g in found]
         rows.append(
@@ -538,24 +571,36 @@ def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed
                 n,
                 None if any(w is None for w in walks) else share([bool(w) for w in walks]),
                 *(share(holds[t]) for t in names),
+                *(sum(held[t]) / n if n else None for t in floored),
                 share(every),
                 None
                 if any(w is None for w in walks)
                 else share([bool(w) and e for w, e in zip(walks, every, strict=True)]),
             )
         )
+        for t in floored:
+            not_held[t][a.arm] = [1.0 - h for h in held[t]]
         failures = []
         for t in names:
-            fell = sum(not _trial(g, t).upright for g in found if _trial(g, t))
-            stopped = sum(_trial(g, t).upright and not _trial(g, t).walking for g in found if _trial(g, t))
+            trials = [trial for g in found if (trial := _trial(g, t))]
+            fell = sum(not trial.upright for trial in trials)
+            stopped = sum(trial.upright and not trial.walking for trial in trials)
+            where = " on some floor" if t in floored else ""
             if fell or stopped:
-                failures.append(f"{t}: {fell} fell, {stopped} stayed up but were not walking again")
+                failures.append(
+                    f"{t}: {fell} fell{where}, {stopped} stayed up but were not walking again{where}"
+                )
         if failures:
             notes.append(f"**{a.arm}**: " + "; ".join(failures))
     table = Table(
         "shares", tuple(columns), tuple(rows), "share of the runs' best gaits that stay upright and walking"
     )
-    return Section("robustness", title, scope, text=text, tables=(table,), notes=tuple(notes))
+    tests = tuple(
+        RankTests(f"{t}: share of floors not held", compare(not_held[t]))
+        for t in floored
+        if sum(bool(v) for v in not_held[t].values()) >= 2
+    )
+    return Section("robustness", title, scope, text=text, tables=(table,), tests=tests, notes=tuple(notes))
 
 
 def _trial(gait: Assessed, name: str) -> Any:
@@ -565,6 +610,12 @@ def _trial(gait: Assessed, name: str) -> Any:
 def _holds(gait: Assessed, name: str) -> bool:
     trial = _trial(gait, name)
     return bool(trial and trial.holds)
+
+
+def _floors_held(gait: Assessed, name: str) -> float:
+    """The share of its floors a gait holds on under ``name`` (none when it was not played)."""
+    trial = _trial(gait, name)
+    return trial.held / trial.floors if trial else 0.0
 
 
 __all__ = [

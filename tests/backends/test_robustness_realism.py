@@ -14,11 +14,14 @@ from gaitgram.backends.mujoco_horse.joints import CATALOGUE
 from gaitgram.backends.mujoco_horse.realism import CURVES, MEASURES, _scores, assess, mean_phases, real_walks
 from gaitgram.backends.mujoco_horse.robustness import (
     BUMP_HEIGHT,
+    BUMP_SEEDS,
     DISTURBANCES,
     FLAT_START,
     PUSH_SECONDS,
     PUSH_SHARE,
+    Trial,
     _bumpy_model,
+    _on_every_floor,
     _push,
     disturbed,
 )
@@ -44,6 +47,11 @@ def test_the_seed_recovers_from_a_backward_push_and_a_falling_gait_holds_under_n
         assert not crouch.holds
         assert crouch.detail
         assert "down to" in crouch.detail
+        assert crouch.held == 0
+        floors = len(BUMP_SEEDS) if disturbance.name == "bumps" else 1
+        assert (seed.floors, crouch.floors) == (floors, floors)
+        assert 0 <= seed.held <= floors
+        assert seed.holds == (seed.held == floors)
     (backward, _) = disturbed({}, batch, "push-backward")
     assert backward.holds, backward.detail
     again = disturbed({}, batch, "push-backward")
@@ -67,16 +75,42 @@ def test_a_push_is_a_share_of_body_weight_on_the_trunk_for_a_tenth_of_a_second()
     assert pushed[0] * evaluator.dt > evaluator.settings.ramp_seconds + 1.5  # after the warm-up
 
 
-def test_the_bumpy_floor_is_flat_where_the_horse_stands_and_bumped_ahead() -> None:
-    model = _bumpy_model()
-    field = model.hfield_data.reshape(model.hfield_nrow[0], model.hfield_ncol[0])
-    assert field.min() == 0.0
-    assert field.max() == pytest.approx(1.0)
-    assert model.hfield_size[0][2] == BUMP_HEIGHT
-    centre = model.geom_pos[0][0]
-    x = centre + np.linspace(-model.hfield_size[0][0], model.hfield_size[0][0], field.shape[1])
-    assert not field[:, x < FLAT_START].any()
-    assert field[:, x > FLAT_START + 1].mean() > 0.3
+def test_each_bumpy_floor_is_flat_where_the_horse_stands_and_bumped_ahead_its_own_way() -> None:
+    fields = []
+    for seed in BUMP_SEEDS:
+        model = _bumpy_model(None, seed)
+        field = model.hfield_data.reshape(model.hfield_nrow[0], model.hfield_ncol[0])
+        assert field.min() == 0.0
+        assert field.max() == pytest.approx(1.0)
+        assert model.hfield_size[0][2] == BUMP_HEIGHT
+        centre = model.geom_pos[0][0]
+        x = centre + np.linspace(-model.hfield_size[0][0], model.hfield_size[0][0], field.shape[1])
+        assert not field[:, x < FLAT_START].any()
+        assert field[:, x > FLAT_START + 1].mean() > 0.3
+        fields.append(field)
+    assert len(BUMP_SEEDS) >= 10
+    assert all(not np.array_equal(fields[0], other) for other in fields[1:])  # ten turfs, not one
+    assert np.array_equal(_bumpy_model().hfield_data, _bumpy_model(None, BUMP_SEEDS[0]).hfield_data)
+
+
+def test_a_gait_holds_the_bumps_only_on_every_floor_and_says_where_it_did_not() -> None:
+    held = Trial("bumps", True, True, None, held=1)
+    fell = Trial("bumps", False, False, "fell: trunk down to 0.4 m")
+    slowed = Trial("bumps", True, False, "not walking again: speed")
+    trials = [held] * len(BUMP_SEEDS)
+    assert _on_every_floor("bumps", trials) == Trial(
+        "bumps", True, True, None, len(BUMP_SEEDS), len(BUMP_SEEDS)
+    )
+    one_off = _on_every_floor("bumps", [held, held, slowed, fell, *trials[4:]])
+    assert not one_off.holds
+    assert (one_off.upright, one_off.walking) == (False, False)
+    assert (one_off.floors, one_off.held) == (len(BUMP_SEEDS), len(BUMP_SEEDS) - 2)
+    assert one_off.detail == (
+        f"held on {len(BUMP_SEEDS) - 2} of {len(BUMP_SEEDS)} floors; on seed {BUMP_SEEDS[2]}: "
+        "not walking again: speed"
+    )
+    stopped = _on_every_floor("bumps", [slowed, *trials[1:]])
+    assert (stopped.upright, stopped.walking, stopped.held) == (True, False, len(BUMP_SEEDS) - 1)
 
 
 def test_the_realism_distance_is_zero_at_the_real_walks_median() -> None:

@@ -11,6 +11,7 @@ import pytest
 
 from conftest import ROOT
 from gaitgram.backends.mujoco_horse.targets import TASK_REVISION, WALK_CRITERION
+from gaitgram.study.assess import ASSESSMENT, BEST_WALK, FORMAT
 
 RESULTS = ROOT / "docs" / "results"
 CURRENT = sorted(
@@ -30,3 +31,13 @@ def test_a_current_report_says_what_scored_it_and_how_walks_were_counted(study: 
     assert summary["backend"] == "mujoco-horse"
     assert f"fitness r{TASK_REVISION}," in summary["backend_version"]
     assert summary["verdict"]["version"] == WALK_CRITERION
+
+
+@pytest.mark.parametrize("study", CURRENT, ids=lambda study: study.name)
+def test_a_current_report_measured_its_gaits_as_this_code_does(study: Path) -> None:
+    kept = list(study.rglob(ASSESSMENT)) + list(study.rglob(BEST_WALK))
+    assert kept, "no kept assessments: made without --assess"
+    stale = [str(p.relative_to(study)) for p in kept if json.loads(p.read_text())["format"] != FORMAT]
+    assert not stale, f"assessed by another code: {stale[:3]}; gaitgram report --assess"
+    header = (study / "robustness-shares.csv").read_text(encoding="utf-8").splitlines()[0]
+    assert "floors_held_bumps" in header.split(",")  # the bumps are ten floors

@@ -80,7 +80,7 @@ def rows(path: Path) -> list[dict[str, str]]:
 @pytest.mark.slow
 def test_each_run_s_best_gait_is_measured_as_the_backend_measures_it(made: Path) -> None:
     from gaitgram.backends.mujoco_horse.realism import assess
-    from gaitgram.backends.mujoco_horse.robustness import disturbed
+    from gaitgram.backends.mujoco_horse.robustness import BUMP_SEEDS, disturbed
 
     for name in ARMS:
         for run, record in enumerate(kept(made / name)):
@@ -89,6 +89,10 @@ def test_each_run_s_best_gait_is_measured_as_the_backend_measures_it(made: Path)
             assert record["fitness"] == best["fitness"]
             assert record["gait"] in ("measured", "falls")
             assert [t["disturbance"] for t in record["trials"]] == ["push-forward", "push-backward", "bumps"]
+            assert [t["floors"] for t in record["trials"]] == [1, 1, len(BUMP_SEEDS)]
+            for t in record["trials"]:
+                assert 0 <= t["held"] <= t["floors"]
+                assert (t["held"] == t["floors"]) == (t["upright"] and t["walking"])
     # the walk the report animates is measured too, from wherever in the runs it comes
     directory = RunDirectory.open(made / "ge")
     walk = json.loads((made / "ge" / BEST_WALK).read_text())
@@ -104,13 +108,15 @@ def test_each_run_s_best_gait_is_measured_as_the_backend_measures_it(made: Path)
     assert record["realism"]["distance"] == pytest.approx(realism.distance, rel=1e-12)
     assert record["realism"]["scores"] == pytest.approx(realism.scores, rel=1e-12)
     assert record["realism"]["measures"]["duty_factor"] == pytest.approx(realism.measures["duty_factor"])
-    (trial,) = disturbed(settings, batch, "push-backward")
-    pushed = next(t for t in record["trials"] if t["disturbance"] == "push-backward")
-    assert (pushed["upright"], pushed["walking"], pushed["detail"]) == (
-        trial.upright,
-        trial.walking,
-        trial.detail,
-    )
+    for name in ("push-backward", "bumps"):
+        (trial,) = disturbed(settings, batch, name)
+        kept_trial = next(t for t in record["trials"] if t["disturbance"] == name)
+        assert (kept_trial["upright"], kept_trial["walking"], kept_trial["detail"], kept_trial["held"]) == (
+            trial.upright,
+            trial.walking,
+            trial.detail,
+            trial.held,
+        )
 
 
 @pytest.mark.slow
@@ -137,6 +143,9 @@ def test_the_sections_show_what_the_runs_keep(made: Path) -> None:
         assert float(row["holds_bumps"]) == pytest.approx(
             sum(t["upright"] and t["walking"] for t in bumps) / 2
         )
+        assert float(row["floors_held_bumps"]) == pytest.approx(
+            sum(t["held"] / t["floors"] for t in bumps) / 2
+        )
     measures = {r["measure"]: r for r in rows(out / "realism-measures.csv")}
     assert float(measures["duty factor"]["real"]) == 0.588  # DLC_Horse's median
     assert measures["duty factor"]["real_spread"] == "IQR 0.55 to 0.632"
@@ -145,6 +154,7 @@ def test_the_sections_show_what_the_runs_keep(made: Path) -> None:
     data = json.loads((out / "summary.json").read_text())
     assert set(data["sections"]) == {"start", "first-walk", "realism", "robustness"}
     assert list(data["sections"]["realism"]["tests"]) == ["realism distance"]
+    assert list(data["sections"]["robustness"]["tests"]) == ["bumps: share of floors not held"]
     assert (out / "realism.svg").read_text().count("<svg") == 1
     assert (out / "walk-ge.gif").exists()  # GE's seed 0 hands back a walk: animated, its curves beside
     assert (out / "curves-ge.png").read_bytes().startswith(b"\x89PNG")
@@ -188,6 +198,15 @@ def test_a_stale_or_missing_assessment_is_said_and_a_damaged_one_refused(made: P
     assert "**Gaits held against real horses** (each run's best gait):\n\nNot measured yet." in summary
     assert "of 2 runs' best gaits, 2 not measured yet" in summary
     assert not list((tmp_path / "none").glob("realism*"))
+
+    record = json.loads((made / "ge" / "run-000" / ASSESSMENT).read_text())
+    bumps = next(t for t in record["trials"] if t["disturbance"] == "bumps")
+    bumps["held"] = bumps["floors"] + 1  # held on more floors than it was played on
+    (arm / "run-000" / ASSESSMENT).write_text(json.dumps(record))
+    result = runner.invoke(app, ["report", str(arm), "-o", str(tmp_path / "overheld")])
+    assert result.exit_code == 2
+    assert "floors and held" in result.stderr
+    assert not (tmp_path / "overheld").exists()
 
     (arm / "run-000" / ASSESSMENT).write_text('{"format": 1')
     result = runner.invoke(app, ["report", str(arm), "-o", str(tmp_path / "damaged")])
