@@ -296,9 +296,14 @@ def _resume(
     if grow_to is not None:
         directory = directory.grow(grow_to)
     load_strategy(directory.pipeline)  # its library is installed, to read the strategy's state
+    accepted, finish = directory.fingerprints, directory.config.generations
     for run, checkpoint in enumerate(directory.checkpoints):  # all of them, before anything runs
         if checkpoint.exists():
-            load_checkpoint(checkpoint, directory.pipeline, fingerprint=directory.fingerprints, run=run)
+            state = load_checkpoint(
+                checkpoint, directory.pipeline, fingerprint=accepted, run=run, with_memory=False
+            )
+            if state.generation < finish:  # it goes on: its strategy's memory must be there
+                load_checkpoint(checkpoint, directory.pipeline, fingerprint=accepted, run=run)
     return directory
 
 

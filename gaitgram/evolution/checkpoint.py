@@ -108,6 +108,19 @@ def load_checkpoint(
         ) from None
 
 
+def refingerprint_checkpoint(
+    path: Path, pipeline: Pipeline, *, fingerprint: str | tuple[str, ...], run: int, to: str
+) -> None:
+    """Give the checkpoint at ``path`` (checked as any, against ``fingerprint``) the fingerprint
+    ``to``, all else as it was. A growing run directory renames its runs this way, without their
+    strategies' pickled memory: a finished run's is not needed, and a committed study has none."""
+    load_checkpoint(path, pipeline, fingerprint=fingerprint, run=run, with_memory=False)
+    content = json.loads(path.read_text(encoding="utf-8"))["checkpoint"]
+    if content["fingerprint"] != to:
+        content["fingerprint"] = to
+        write_atomically(path, jsonio.dumps({"digest": _digest(content), "checkpoint": content}))
+
+
 class _Corrupt(Exception):
     pass
 

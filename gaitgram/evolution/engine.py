@@ -178,6 +178,9 @@ def run_evolution(
 
     if resume and checkpoint.exists():
         accepted = (fingerprint, *earlier_fingerprints)
+        state = load_checkpoint(checkpoint, pipeline, fingerprint=accepted, run=run, with_memory=False)
+        if state.generation >= config.generations:
+            return state  # finished: its strategy's memory (perhaps not kept) is not needed
         state = load_checkpoint(checkpoint, pipeline, fingerprint=accepted, run=run)
         try:
             state.memory = strategy.restore(context, state.memory)

@@ -40,7 +40,7 @@ from gaitgram import __version__, jsonio
 from gaitgram.analysis import check
 from gaitgram.backends.api import Evaluation, GaitStatus
 from gaitgram.backends.registry import backend_version
-from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint, save_checkpoint
+from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint, refingerprint_checkpoint
 from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, differences, read_toml
 from gaitgram.evolution.engine import ENGINE_REVISION, run_context, run_files
 from gaitgram.evolution.records import run_records
@@ -252,7 +252,8 @@ class RunDirectory:
         """The same directory with ``runs`` runs: the runs it has stay as they are (run ``i`` is the
         same run whatever the count), new ones are added. Safe to kill at any point: the manifest,
         naming both the old and the new configuration, is written before the configuration, and
-        checkpoints fingerprinted with the count are re-saved, one by one, before either."""
+        checkpoints fingerprinted with the count are renamed, one by one, before either (nothing
+        else in them changes: a strategy's pickled memory is neither needed nor touched)."""
         if runs < self.config.runs:
             raise RunDirectoryError(
                 f"{self.path} has {self.config.runs} runs; a run directory grows but never shrinks "
@@ -262,10 +263,9 @@ class RunDirectory:
             return self
         for run, path in enumerate(self.checkpoints):
             if path.exists():
-                state = load_checkpoint(path, self.pipeline, fingerprint=self.fingerprints, run=run)
-                saved = json.loads(path.read_text(encoding="utf-8"))["checkpoint"]["fingerprint"]
-                if saved != self.fingerprint:
-                    save_checkpoint(path, state, fingerprint=self.fingerprint, run=run)
+                refingerprint_checkpoint(
+                    path, self.pipeline, fingerprint=self.fingerprints, run=run, to=self.fingerprint
+                )
         config = replace(self.config, runs=runs)
         config_text = config.to_toml()
         manifest = json.loads(_read_bytes(self.path / MANIFEST).decode("utf-8"))

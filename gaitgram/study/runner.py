@@ -216,7 +216,13 @@ def _verified(study: Study, out: Path) -> StudyDirectory:
         else:
             directory = RunDirectory.open(path)
         changed = directory.fingerprint != fingerprint(arm.pipeline, arm.defines)
-        if changed or directory.config.runs > study.runs:
+        if not changed and directory.config.runs > study.runs:
+            raise StudyError(
+                f"cannot continue {out} with {study.runs} runs per arm: arm {arm.name!r} already has "
+                f"{directory.config.runs}, from a growth that did not finish; give --runs "
+                f"{directory.config.runs} to finish it"
+            )
+        if changed:
             found = directory.differences(
                 grammar=arm.pipeline.grammar.source, defines=arm.defines, config=arm.config
             )

@@ -176,6 +176,32 @@ def load_checkpoint_generation(run_dir: Path) -> int:
     return json.loads((run_dir / "checkpoint.json").read_text())["checkpoint"]["generation"]
 
 
+@pytest.mark.parametrize("strategy", ["cma-es", "nsga2", "map-elites"])
+def test_finished_runs_without_their_pickled_state_still_grow(tmp_path: Path, strategy: str) -> None:
+    """A committed study keeps no strategy pickle (gitignored under docs/results): asking it for
+    more runs adds them, as a fresh directory of that many would hold them, and leaves the
+    finished runs as they were; only an unfinished run needs its pickle."""
+    grammar, config = write_inputs(tmp_path, strategy, generations=3)
+    made = runner.invoke(
+        app, ["evolve", str(grammar), "-c", str(config), "-o", str(tmp_path / "grown"), "-q"]
+    )
+    assert made.exit_code == 0, made.stderr
+    pickles = list((tmp_path / "grown").rglob("strategy-*.pickle"))
+    assert pickles
+    for pickled in pickles:
+        pickled.unlink()
+    before = files_of(tmp_path / "grown" / "run-000")
+    grown = runner.invoke(app, ["evolve", "--resume", str(tmp_path / "grown"), "--runs", "2", "-q"])
+    assert grown.exit_code == 0, grown.stderr
+    whole = runner.invoke(
+        app, ["evolve", str(grammar), "-c", str(config), "--runs", "2", "-o", str(tmp_path / "whole"), "-q"]
+    )
+    assert whole.exit_code == 0, whole.stderr
+    assert files_of(tmp_path / "grown" / "run-000") == before == files_of(tmp_path / "whole" / "run-000")
+    assert files_of(tmp_path / "grown" / "run-001") == files_of(tmp_path / "whole" / "run-001")
+    assert not list((tmp_path / "grown" / "run-000").glob("*.pickle"))  # nothing made up in its place
+
+
 @pytest.mark.parametrize("strategy", ["random", "cma-es", "nsga2", "map-elites"])
 def test_a_stopped_run_resumes_to_the_uninterrupted_result(
     tmp_path: Path, strategy: str, ctrl_c: Callable[[int], None]

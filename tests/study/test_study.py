@@ -251,6 +251,23 @@ def test_a_study_grows_more_runs_and_never_drops_any(tmp_path: Path) -> None:
     assert "holds 3 runs per arm" in fewer.stderr
 
 
+def test_a_growth_that_did_not_finish_is_finished_by_asking_for_its_runs(tmp_path: Path) -> None:
+    """A growth stopped after some arms grew (killed, or one arm's checkpoint refused) leaves the
+    study at its old count and those arms at the new one: the study says which count finishes it."""
+    from gaitgram.evolution.rundir import RunDirectory
+
+    study = write_study(tmp_path)
+    small = gaitgram("study", str(study), "-o", str(tmp_path / "s"), "-q", "--runs", "2")
+    assert small.returncode == 0, small.stderr
+    RunDirectory.open(tmp_path / "s" / "arms" / "plain").grow(3)  # as far as a stopped growth got
+    again = gaitgram("study", str(study), "-o", str(tmp_path / "s"), "-q", "--runs", "2")
+    assert again.returncode == 2
+    assert "arm 'plain' already has 3, from a growth that did not finish; give --runs 3" in again.stderr
+    finished = gaitgram("study", str(study), "-o", str(tmp_path / "s"), "-q", "--runs", "3")
+    assert finished.returncode == 0, finished.stderr
+    assert json.loads((tmp_path / "s" / "study.json").read_text())["runs"] == 3
+
+
 def write_arm(path: Path, runs: list[dict]) -> Path:
     """A finished two-generation arm written by hand: each run gives its best's walk component, the
     final population's mean walk and, optionally, a Pareto front or repertoire."""
