@@ -490,9 +490,10 @@ class KeptGait:
     evaluation: Evaluation
 
 
-def best_walk_of_runs(directory: RunDirectory) -> KeptGait:
+def best_walk_of_runs(directory: RunDirectory, *, finished_only: bool = False) -> KeptGait:
     """The best-scoring walk any run hands back: from its repertoire or Pareto front when its
-    strategy keeps one, else from its last checkpoint's population.
+    strategy keeps one, else from its last checkpoint's population. ``finished_only``: of the
+    finished runs alone, as a report reads them (a study still running is reported over those).
 
     The weighted fitness can rank a walk below a gait just outside the walk window, so a run whose
     best is no walk may still hold one. Kept sets are read from their records; whoever shows the
@@ -506,6 +507,8 @@ def best_walk_of_runs(directory: RunDirectory) -> KeptGait:
         )
     found: list[KeptGait] = []
     for run, state in _last_states(directory):
+        if finished_only and state.generation < directory.config.generations:
+            continue
         try:
             members = kept_members(directory.run_dir(run))
         except RecordError as error:

@@ -120,7 +120,7 @@ def _best_walk(directory: RunDirectory, version: str) -> dict[str, Any] | None:
     if directory.pipeline.spec.verdict is None:
         return None
     try:
-        walk = best_walk_of_runs(directory)
+        walk = best_walk_of_runs(directory, finished_only=True)
     except RunDirectoryError:
         return None
     return {

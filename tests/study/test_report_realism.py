@@ -27,7 +27,7 @@ from typer.testing import CliRunner
 
 from conftest import GRAMMARS
 from gaitgram.cli import app
-from gaitgram.evolution.rundir import RunDirectory, best_walk_of_runs
+from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_walk_of_runs
 from gaitgram.study import assess as assess_module
 from gaitgram.study.assess import ASSESSMENT, BEST_WALK, assess_arm
 
@@ -117,6 +117,30 @@ def test_each_run_s_best_gait_is_measured_as_the_backend_measures_it(made: Path)
             trial.detail,
             trial.held,
         )
+
+
+@pytest.mark.slow
+def test_a_report_animates_and_measures_a_walk_of_a_finished_run_only(made: Path, tmp_path: Path) -> None:
+    """A study still running is reported over its finished runs: its best walk is one of theirs,
+    not a walk an unfinished run holds at the moment (``report --watch``)."""
+    from dataclasses import replace
+
+    from gaitgram.evolution.checkpoint import load_checkpoint, save_checkpoint
+
+    arm = Path(shutil.copytree(made / "ge", tmp_path / "ge"))
+    directory = RunDirectory.open(arm)
+    walk = best_walk_of_runs(directory)
+    assert best_walk_of_runs(directory, finished_only=True) == walk  # every run has finished
+    checkpoint = arm / f"run-{walk.run:03d}" / "checkpoint.json"
+    state = load_checkpoint(checkpoint, directory.pipeline, fingerprint=directory.fingerprint, run=walk.run)
+    unfinished = replace(state, generation=state.generation - 1, history=state.history[:-1])
+    save_checkpoint(checkpoint, unfinished, fingerprint=directory.fingerprint, run=walk.run)
+    assert best_walk_of_runs(directory).run == walk.run  # what the run holds now, finished or not
+    try:
+        other: int | None = best_walk_of_runs(directory, finished_only=True).run
+    except RunDirectoryError:  # the other run holds no walk
+        other = None
+    assert other != walk.run
 
 
 @pytest.mark.slow
