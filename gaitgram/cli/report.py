@@ -52,6 +52,16 @@ _Watch = Annotated[
 _Interval = Annotated[
     float, typer.Option(min=1.0, help="With --watch: seconds between looks for newly finished runs.")
 ]
+_Runs = Annotated[
+    int | None,
+    typer.Option(
+        "--runs",
+        min=1,
+        help="Read each arm's first N runs alone (runs 0 to N-1): a study grown since a report was "
+        "made over fewer is reported as it stood.",
+        show_default=False,
+    ),
+]
 _Cell = Annotated[
     list[str] | None,
     typer.Option(
@@ -68,6 +78,7 @@ def command(
     assess: _Assess = False,
     watch: _Watch = False,
     interval: _Interval = 30.0,
+    runs: _Runs = None,
     cell: _Cell = None,
 ) -> None:
     """Tables, statistics and figures over runs, like the paper's and more.
@@ -81,7 +92,8 @@ def command(
     map-elites arms; for mujoco-horse arms, the realism and robustness sections, measured by
     --assess (docs/fitness.md); with --gaits or --cell, GIFs of chosen gaits (docs/strategies.md);
     and report.html, all of it in one page that opens from a file (docs/study.md). With --watch,
-    a study still running is reported over its finished runs, again as more finish.
+    a study still running is reported over its finished runs, again as more finish; with --runs N,
+    over each arm's first N runs.
     """
     require_extra("matplotlib", "reports")
     require_extra("scipy", "reports")
@@ -93,7 +105,14 @@ def command(
     report = functools.partial(watch_report, interval=interval) if watch else make_report
     try:
         written = report(
-            directories, out, force=force, gaits=gaits, chosen=chosen, assess=assess, progress=err.print
+            directories,
+            out,
+            force=force,
+            gaits=gaits,
+            chosen=chosen,
+            assess=assess,
+            runs=runs,
+            progress=err.print,
         )
     except (ReportError, GalleryError) as error:
         raise fail(str(error)) from None

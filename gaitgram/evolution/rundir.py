@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Iterator, Mapping
+from collections.abc import Collection, Iterator, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -468,10 +468,13 @@ def finished_bests(directory: RunDirectory) -> list[tuple[int, int, Individual]]
     return [(run, s.generation, s.best) for run, s in _last_states(directory) if s.generation == last]
 
 
-def _last_states(directory: RunDirectory) -> Iterator[tuple[int, RunState]]:
-    """Each run's last checkpoint (runs with none yet are skipped), without strategy memory."""
+def _last_states(
+    directory: RunDirectory, runs: Collection[int] | None = None
+) -> Iterator[tuple[int, RunState]]:
+    """Each run's last checkpoint (runs with none yet are skipped; of ``runs`` alone, if given),
+    without strategy memory."""
     for run, path in enumerate(directory.checkpoints):
-        if path.exists():
+        if (runs is None or run in runs) and path.exists():
             yield (
                 run,
                 load_checkpoint(
@@ -490,10 +493,13 @@ class KeptGait:
     evaluation: Evaluation
 
 
-def best_walk_of_runs(directory: RunDirectory, *, finished_only: bool = False) -> KeptGait:
+def best_walk_of_runs(
+    directory: RunDirectory, *, finished_only: bool = False, runs: Collection[int] | None = None
+) -> KeptGait:
     """The best-scoring walk any run hands back: from its repertoire or Pareto front when its
     strategy keeps one, else from its last checkpoint's population. ``finished_only``: of the
-    finished runs alone, as a report reads them (a study still running is reported over those).
+    finished runs alone, as a report reads them (a study still running is reported over those);
+    ``runs``: of the runs so numbered alone (a report over an arm's first runs).
 
     The weighted fitness can rank a walk below a gait just outside the walk window, so a run whose
     best is no walk may still hold one. Kept sets are read from their records; whoever shows the
@@ -506,7 +512,7 @@ def best_walk_of_runs(directory: RunDirectory, *, finished_only: bool = False) -
             "declares no verdict); drop --walk to see the run's best gait"
         )
     found: list[KeptGait] = []
-    for run, state in _last_states(directory):
+    for run, state in _last_states(directory, runs):
         if finished_only and state.generation < directory.config.generations:
             continue
         try:

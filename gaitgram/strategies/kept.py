@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Iterator
+from collections.abc import Collection, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -39,11 +39,15 @@ def run_dirs(arm: Path) -> list[Path]:
     return sorted(p for p in arm.glob("run-[0-9][0-9][0-9]") if p.is_dir())
 
 
-def _records(arm: Path, name: str) -> Iterator[tuple[int, Path, dict[str, Any]]]:
-    """(run, file, its content) of each of an arm's runs that keeps the record ``name``."""
-    for run, directory in enumerate(run_dirs(arm)):
+def _records(
+    arm: Path, name: str, runs: Collection[int] | None = None
+) -> Iterator[tuple[int, Path, dict[str, Any]]]:
+    """(run, file, its content) of each of an arm's runs that keeps the record ``name``: of the
+    runs numbered ``runs`` (a report's), or of every run directory there is."""
+    for directory in run_dirs(arm):
+        run = int(directory.name.removeprefix("run-"))
         path = directory / name
-        if path.is_file():
+        if (runs is None or run in runs) and path.is_file():
             yield run, path, _read(path)
 
 
@@ -103,10 +107,10 @@ class Front:
     members: tuple[dict[str, Any], ...]
 
 
-def load_fronts(arm: Path) -> list[Front]:
-    """The fronts of an arm's runs (those that keep one)."""
+def load_fronts(arm: Path, runs: Collection[int] | None = None) -> list[Front]:
+    """The fronts of an arm's runs (those that keep one; of ``runs`` alone, if given)."""
     fronts = []
-    for run, path, data in _records(arm, FRONT):
+    for run, path, data in _records(arm, FRONT, runs):
         try:
             names = data["objectives"]
             if not isinstance(names, list) or not names or not all(isinstance(o, str) for o in names):
@@ -148,14 +152,15 @@ class Repertoire:
     cells: int
 
 
-def load_repertoire(arm: Path) -> Repertoire | None:
-    """The merged archives of an arm's runs, or None if its runs keep none."""
+def load_repertoire(arm: Path, runs: Collection[int] | None = None) -> Repertoire | None:
+    """The merged archives of an arm's runs (of ``runs`` alone, if given), or None if they keep
+    none."""
     descriptors: tuple[dict[str, Any], ...] | None = None
     best: np.ndarray | None = None
     coverage: np.ndarray | None = None
     elites: dict[tuple[int, ...], dict[str, Any]] = {}
     filled = []
-    for run, path, data in _records(arm, ARCHIVE):
+    for run, path, data in _records(arm, ARCHIVE, runs):
         try:
             if descriptors is None:
                 descriptors = _descriptors(data["descriptors"])

@@ -25,7 +25,7 @@ from gaitgram import jsonio
 from gaitgram.evolution.checkpoint import load_checkpoint
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_walk_of_runs, read_manifest
 from gaitgram.fileio import write_atomically
-from gaitgram.study.records import ReportError
+from gaitgram.study.records import ArmRecord, ReportError
 
 #: The file each run directory keeps its best gait's assessment in.
 ASSESSMENT = "assessment.json"
@@ -43,6 +43,12 @@ def assessment_path(arm: Path, run: int) -> Path:
     return arm / f"run-{run:03d}" / ASSESSMENT
 
 
+def best_walk_path(arm: Path, window: int | None = None) -> Path:
+    """Where the best walk of an arm's runs is kept: of all of them, or of its first ``window``
+    (a report over fewer runs than the arm has, whose best walk may be another)."""
+    return arm / (BEST_WALK if window is None else f"best-walk-assessment-first-{window}.json")
+
+
 def kept_key(record: dict[str, Any]) -> tuple[Any, ...]:
     """What a kept assessment must match to be current."""
     return (
@@ -55,11 +61,16 @@ def kept_key(record: dict[str, Any]) -> tuple[Any, ...]:
 
 
 def assess_arm(
-    path: Path, *, force: bool = False, progress: Callable[[str], None] | None = None
+    path: Path,
+    *,
+    window: int | None = None,
+    force: bool = False,
+    progress: Callable[[str], None] | None = None,
 ) -> list[Path]:
-    """Measure the best gait of each finished run of the run directory ``path`` whose kept
-    assessment is missing, stale or damaged (every one with ``force``); the files written. A run
-    directory of another backend is left alone (nothing written)."""
+    """Measure the best gait of each finished run of the run directory ``path`` (of its first
+    ``window`` runs, if given) whose kept assessment is missing, stale or damaged (every one with
+    ``force``), and the best walk they hand back; the files written. A run directory of another
+    backend is left alone (nothing written)."""
     try:
         directory = RunDirectory.open(path)
     except RunDirectoryError as error:
@@ -70,7 +81,8 @@ def assess_arm(
     manifest = read_manifest(path)
     version = manifest["backend_version"] if manifest else ""
     wanted: list[tuple[int, dict[str, Any]]] = []
-    for run, checkpoint in enumerate(directory.checkpoints):
+    runs = range(len(directory.checkpoints) if window is None else window)
+    for run, checkpoint in zip(runs, directory.checkpoints, strict=False):
         if not checkpoint.exists():
             continue
         try:
@@ -93,8 +105,8 @@ def assess_arm(
         if not force and _kept(assessment_path(path, run), record):
             continue
         wanted.append((run, record))
-    walk = _best_walk(directory, version)
-    if walk is not None and (force or not _kept(path / BEST_WALK, walk)):
+    walk = _best_walk(directory, version, runs)
+    if walk is not None and (force or not _kept(best_walk_path(path, window), walk)):
         wanted.append((-1, walk))
     if not wanted:
         return []
@@ -108,19 +120,19 @@ def assess_arm(
     measured = measure(dict(pipeline.config.backend_settings), batch)
     written = []
     for (run, record), found in zip(wanted, measured, strict=True):
-        target = assessment_path(path, run) if run >= 0 else path / BEST_WALK
+        target = assessment_path(path, run) if run >= 0 else best_walk_path(path, window)
         write_atomically(target, jsonio.dumps({**record, **found}, indent=1) + "\n")
         written.append(target)
     return written
 
 
-def _best_walk(directory: RunDirectory, version: str) -> dict[str, Any] | None:
-    """The record naming the best walk any run hands back (as the report's gallery picks it);
-    None if none does."""
+def _best_walk(directory: RunDirectory, version: str, runs: range) -> dict[str, Any] | None:
+    """The record naming the best walk any of ``runs`` hands back (as the report's gallery picks
+    it); None if none does."""
     if directory.pipeline.spec.verdict is None:
         return None
     try:
-        walk = best_walk_of_runs(directory, finished_only=True)
+        walk = best_walk_of_runs(directory, finished_only=True, runs=runs)
     except RunDirectoryError:
         return None
     return {
@@ -199,7 +211,12 @@ def _realism(settings: dict[str, Any], batch: Any) -> list[dict[str, Any] | None
 
 
 def assess_arms(
-    paths: Sequence[Path], *, force: bool = False, progress: Callable[[str], None] | None = None
+    arms: Sequence[ArmRecord], *, force: bool = False, progress: Callable[[str], None] | None = None
 ) -> list[Path]:
-    """:func:`assess_arm` on each run directory in turn."""
-    return [p for path in paths for p in assess_arm(path, force=force, progress=progress)]
+    """:func:`assess_arm` on each arm scored on the horse in turn, over the runs a report reads."""
+    return [
+        p
+        for arm in arms
+        if arm.backend == MEASURED_ON
+        for p in assess_arm(arm.path, window=arm.window, force=force, progress=progress)
+    ]

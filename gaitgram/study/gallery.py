@@ -101,8 +101,9 @@ def gaits_section(
 
 
 def best_walk(arm: ArmRecord) -> KeptGait | None:
-    """The best walk any finished run of a mujoco-horse arm hands back; None if the arm is drawn on
-    another backend, its backend judges no walks, or no run hands one back."""
+    """The best walk any finished run of a mujoco-horse arm hands back (of the runs the report
+    reads); None if the arm is drawn on another backend, its backend judges no walks, or no run
+    hands one back."""
     if arm.walk_held_rate == 0:
         return None
     try:
@@ -112,7 +113,7 @@ def best_walk(arm: ArmRecord) -> KeptGait | None:
     if directory.pipeline.backend != DRAWN_ON or directory.pipeline.spec.verdict is None:
         return None
     try:
-        return best_walk_of_runs(directory, finished_only=True)
+        return best_walk_of_runs(directory, finished_only=True, runs=arm.numbers)
     except RunDirectoryError as error:
         if arm.walk_held_rate is None:  # the records did not say; the checkpoints say there is none
             return None

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from gaitgram.packaged import packaged
-from gaitgram.study.assess import ASSESSMENT, BEST_WALK, FORMAT, MEASURED_ON, assessment_path, kept_key
+from gaitgram.study.assess import ASSESSMENT, FORMAT, MEASURED_ON, assessment_path, best_walk_path, kept_key
 from gaitgram.study.model import Column, Figure, Kind, RankTests, Section, Table, figure_name
 from gaitgram.study.records import ArmRecord, ReportError
 from gaitgram.study.stats import bootstrap_median_ci, compare
@@ -130,18 +130,20 @@ def load_assessed(arm: ArmRecord) -> ArmAssessed | None:
             continue
         found.append(_assessed(kept, run, record.walk, path, arm))
     walk = None
-    if (arm.path / BEST_WALK).exists():
-        kept = _read(arm.path / BEST_WALK, arm)
+    walk_path = best_walk_path(arm.path, arm.window)
+    if walk_path.exists():
+        kept = _read(walk_path, arm)
         run = kept.get("run")
         if kept.get("format") == FORMAT and kept.get("backend_version") == arm.backend_version:
             if not isinstance(run, int) or isinstance(run, bool):
-                raise ReportError(f"{arm.path / BEST_WALK}: run: not a run number; {_again(arm)}")
-            walk = _assessed(kept, run, True, arm.path / BEST_WALK, arm)
+                raise ReportError(f"{walk_path}: run: not a run number; {_again(arm)}")
+            walk = _assessed(kept, run, True, walk_path, arm)
     return ArmAssessed(arm.name, len(arm.runs), tuple(found), tuple(missing), tuple(stale), walk)
 
 
 def _again(arm: ArmRecord) -> str:
-    return f"measure it again with: gaitgram report --assess {arm.path}"
+    window = f" --runs {arm.window}" if arm.window else ""
+    return f"measure it again with: gaitgram report --assess{window} {arm.path}"
 
 
 def _read(path: Any, arm: ArmRecord) -> dict[str, Any]:

@@ -79,6 +79,9 @@ class ArmRecord:
     planned_runs: int = 0  # the runs the arm will have (0: as many as it has)
     #: The backend's verdict the walks were counted with (None: it declares none).
     verdict: Verdict | None = None
+    #: Only the arm's first ``window`` runs are read (``gaitgram report --runs``, a study that has
+    #: grown since a report was made over fewer); None: all it plans.
+    window: int | None = None
 
     @property
     def numbers(self) -> tuple[int, ...]:
@@ -130,6 +133,7 @@ def load_arm(
     *,
     redo: str = "",
     finished_only: bool = False,
+    runs: int | None = None,
 ) -> ArmRecord:
     """An arm from a finished run directory; refuses unfinished, unreadable or damaged runs.
 
@@ -137,7 +141,8 @@ def load_arm(
     manifest's digest, when there is one), every line of each run's ``stats.jsonl`` and its
     ``best.json`` field by field. ``redo`` is the command that rewrites a run's records from
     its checkpoint (default: ``gaitgram evolve --resume`` of the arm). With ``finished_only``, runs
-    still running (or not started) are left out instead of refused.
+    still running (or not started) are left out instead of refused. With ``runs``, only runs 0 to
+    ``runs - 1`` are read (refused if the arm plans fewer).
     """
     if not (path / CONFIG).is_file() and not (path / MANIFEST).is_file():
         raise ReportError(f"{path}: not a `gaitgram evolve` run directory (it has no {CONFIG})")
@@ -147,9 +152,16 @@ def load_arm(
     except RunDirectoryError as error:
         raise ReportError(str(error)) from None
     redo = redo or f"gaitgram evolve --resume {path}"
+    if runs is not None and not 1 <= runs <= config.runs:
+        raise ReportError(
+            f"{path}: --runs {runs} asks for its first {runs} runs, but it plans {config.runs}; give "
+            f"--runs from 1 to {config.runs}, or grow the arm first (gaitgram evolve --resume {path} "
+            f"--runs {runs})"
+        )
+    window = runs if runs is not None and runs < config.runs else None
     numbers = [
         run
-        for run in range(config.runs)
+        for run in range(window or config.runs)
         if not (finished_only and _running(path / f"run-{run:03d}", config.generations))
     ]
     # What scored the runs (a directory without a manifest, hand-made or of gaitgram 0.1, cannot say).
@@ -167,8 +179,9 @@ def load_arm(
         backend,
         version,
         tuple(numbers) if finished_only else (),
-        config.runs,
+        window or config.runs,
         verdict,
+        window,
     )
 
 
@@ -329,7 +342,9 @@ def load_study_arms(directory: Path) -> list[ArmRecord]:
     return _study_arms(directory)[0]
 
 
-def _study_arms(directory: Path, finished_only: bool = False) -> tuple[list[ArmRecord], str]:
+def _study_arms(
+    directory: Path, finished_only: bool = False, runs: int | None = None
+) -> tuple[list[ArmRecord], str]:
     """The arms of a study directory, in the study's order, and its title."""
     try:
         manifest = read_study_manifest(directory)
@@ -342,28 +357,36 @@ def _study_arms(directory: Path, finished_only: bool = False) -> tuple[list[ArmR
 
     arms = [
         load_arm(
-            directory / "arms" / a.name, a.name, a.strategy, redo=redo(a.name), finished_only=finished_only
+            directory / "arms" / a.name,
+            a.name,
+            a.strategy,
+            redo=redo(a.name),
+            finished_only=finished_only,
+            runs=runs,
         )
         for a in manifest.arms
     ]
     return arms, manifest.title
 
 
-def load_arms(directories: Sequence[Path], *, finished_only: bool = False) -> tuple[list[ArmRecord], str]:
+def load_arms(
+    directories: Sequence[Path], *, finished_only: bool = False, runs: int | None = None
+) -> tuple[list[ArmRecord], str]:
     """The arms of study directories (each gives its arms) and run directories of ``gaitgram
     evolve`` (each one arm), and the studies' titles. A run directory given twice, under any
     spelling (a symlink, ``..``, a study and one of its arms), is refused: it would be compared
     with itself. Two arms of the same name are named by their paths. With ``finished_only`` (a
-    study still running), only finished runs are read, and arms with none yet are left out."""
+    study still running), only finished runs are read, and arms with none yet are left out. With
+    ``runs``, each arm's first ``runs`` runs alone."""
     arms: list[ArmRecord] = []
     titles = []
     for directory in directories:
         if (directory / STUDY_MANIFEST).is_file():
-            found, title = _study_arms(directory, finished_only)
+            found, title = _study_arms(directory, finished_only, runs)
             arms += found
             titles.append(title)
         else:
-            arms.append(load_arm(directory, finished_only=finished_only))
+            arms.append(load_arm(directory, finished_only=finished_only, runs=runs))
     if finished_only:
         arms = [a for a in arms if a.runs]
     _refuse_duplicates(arms)

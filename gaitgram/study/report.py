@@ -40,7 +40,7 @@ from pathlib import Path
 
 from gaitgram.fileio import OutputError, check_output, write_atomically
 from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts, load_repertoire
-from gaitgram.study.assess import MEASURED_ON, assess_arms
+from gaitgram.study.assess import assess_arms
 from gaitgram.study.figures import draw, rendered
 from gaitgram.study.formats import text_files
 from gaitgram.study.gallery import gaits_section, render_gaits, spread_cells
@@ -107,7 +107,10 @@ def _beside_the_real_walks(gallery: Section, arms: Sequence[ArmRecord], assessed
 def kept_sets(arms: Sequence[ArmRecord]) -> tuple[dict[str, list[Front]], dict[str, Repertoire | None]]:
     """Each arm's fronts and merged repertoire (empty, None: its runs keep none)."""
     try:
-        return {a.name: load_fronts(a.path) for a in arms}, {a.name: load_repertoire(a.path) for a in arms}
+        return (
+            {a.name: load_fronts(a.path, a.numbers) for a in arms},
+            {a.name: load_repertoire(a.path, a.numbers) for a in arms},
+        )
     except RecordError as error:
         raise ReportError(str(error)) from None
 
@@ -182,17 +185,44 @@ def make_report(
     gaits: int = 0,
     chosen: Sequence[tuple[int, ...]] = (),
     assess: bool = False,
+    runs: int | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> list[Path]:
-    """``gaitgram report``: the report of study or run directories whose runs have all finished,
-    written to ``out``; the files written. With ``assess``, each run's best gait is first measured
-    where its kept assessment is missing or stale (simulation; :mod:`gaitgram.study.assess`)."""
-    arms, title = load_arms(directories)
+    """``gaitgram report``: the report of study or run directories whose runs have all finished
+    (each arm's first ``runs``, if given), written to ``out``; the files written. With ``assess``,
+    each run's best gait is first measured where its kept assessment is missing or stale
+    (simulation; :mod:`gaitgram.study.assess`)."""
+    arms, title = load_arms(directories, runs=runs)
     check_comparable(arms)  # before anything is made
     if assess:
-        assess_arms([arm.path for arm in arms if arm.backend == MEASURED_ON], progress=progress)
-    report = study_report(arms, title=title, gaits=gaits, chosen=chosen)
+        assess_arms(arms, progress=progress)
+    report = _with_window(study_report(arms, title=title, gaits=gaits, chosen=chosen), arms)
     return write_report(report, out, force=force)
+
+
+def window_section(arms: Sequence[ArmRecord]) -> Section | None:
+    """What a report over each arm's first runs alone (``--runs``) says first; None when it reads
+    every run the arms plan."""
+    grown = [a for a in arms if a.window is not None]
+    if not grown:
+        return None
+    first = min(a.planned_runs for a in arms)
+    names = ", ".join(a.name for a in grown)
+    return Section(
+        "window",
+        "First runs only",
+        f"runs 0-{first - 1} of each arm",
+        text=(
+            f"This report reads each arm's first {first} runs alone (`gaitgram report --runs {first}`). "
+            f"Of these arms, {names} hold more runs, grown since a report was made over the first ones; "
+            "the same command without --runs reports them all."
+        ),
+    )
+
+
+def _with_window(report: StudyReport, arms: Sequence[ArmRecord]) -> StudyReport:
+    window = window_section(arms)
+    return report if window is None else replace(report, sections=(window, *report.sections))
 
 
 def progress_section(arms: Sequence[ArmRecord], planned: int, interval: float) -> Section | None:
@@ -223,6 +253,7 @@ def watch_report(
     gaits: int = 0,
     chosen: Sequence[tuple[int, ...]] = (),
     assess: bool = False,
+    runs: int | None = None,
     progress: Callable[[str], None] | None = None,
     sleep: Callable[[float], None] = time.sleep,
 ) -> list[Path]:
@@ -233,15 +264,15 @@ def watch_report(
     seen: tuple[tuple[str, tuple[int, ...]], ...] | None = None
     written: list[Path] = []
     while True:
-        arms, title = load_arms(directories, finished_only=True)
+        arms, title = load_arms(directories, finished_only=True, runs=runs)
         state = tuple((a.name, a.numbers) for a in arms)
-        planned = _planned(directories)
+        planned = _planned(directories, runs)
         done = sum(len(a.runs) for a in arms) >= planned
         if arms and state != seen:
             check_comparable(arms)
             if assess:
-                assess_arms([arm.path for arm in arms if arm.backend == MEASURED_ON], progress=progress)
-            report = study_report(arms, title=title, gaits=gaits, chosen=chosen)
+                assess_arms(arms, progress=progress)
+            report = _with_window(study_report(arms, title=title, gaits=gaits, chosen=chosen), arms)
             ongoing = None if done else progress_section(arms, planned, interval)
             if ongoing is not None:
                 report = replace(report, sections=(ongoing, *report.sections))
@@ -250,15 +281,16 @@ def watch_report(
             )
             seen = state
             if progress:
-                runs = sum(len(a.runs) for a in arms)
-                progress(f"{runs} of {planned} runs finished: wrote {out / HTML}")
+                finished = sum(len(a.runs) for a in arms)
+                progress(f"{finished} of {planned} runs finished: wrote {out / HTML}")
         if done:
             return written
         sleep(interval)
 
 
-def _planned(directories: Sequence[Path]) -> int:
-    """How many runs the study or run directories will have when finished."""
+def _planned(directories: Sequence[Path], runs: int | None = None) -> int:
+    """How many runs the study or run directories will have when finished (at most ``runs`` an
+    arm)."""
     from gaitgram.evolution.rundir import RunDirectoryError, read_manifest, saved_config
     from gaitgram.study.manifest import STUDY_MANIFEST, read_study_manifest
     from gaitgram.study.spec import StudyError
@@ -274,6 +306,7 @@ def _planned(directories: Sequence[Path]) -> int:
         else:
             paths.append(directory)
     try:
-        return sum(saved_config(p, read_manifest(p)).runs for p in paths)
+        planned = [saved_config(p, read_manifest(p)).runs for p in paths]
     except RunDirectoryError as error:
         raise ReportError(str(error)) from None
+    return sum(planned if runs is None else [min(runs, n) for n in planned])

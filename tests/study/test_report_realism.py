@@ -29,7 +29,7 @@ from conftest import GRAMMARS
 from gaitgram.cli import app
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_walk_of_runs
 from gaitgram.study import assess as assess_module
-from gaitgram.study.assess import ASSESSMENT, BEST_WALK, assess_arm
+from gaitgram.study.assess import ASSESSMENT, BEST_WALK, assess_arm, best_walk_path
 
 runner = CliRunner()
 PAPER_WEIGHTS = (
@@ -282,3 +282,37 @@ def test_chromium_shows_the_sections_and_the_animated_walk_beside_the_real_walks
     medians = [float(v.split(" ")[0]) for v in opened.column("realism-distance", 4)]
     assert medians == sorted(medians)
     assert opened.errors == []
+
+
+@pytest.mark.slow
+def test_a_report_over_the_first_runs_measures_their_best_walk_apart(
+    made: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``report --assess --runs 1``: run 1 is not measured, and the best walk of run 0 alone is kept
+    beside, not over, the arm's best walk."""
+    arm = Path(shutil.copytree(made / "ge", tmp_path / "ge"))
+    (arm / "run-001" / ASSESSMENT).unlink()
+    whole = (arm / BEST_WALK).read_bytes()
+    asked: list[int] = []
+
+    def recorded(settings: dict[str, Any], batch: Any) -> list[dict[str, Any]]:
+        asked.append(len(batch))
+        return [{"gait": "falls", "detail": None, "realism": None, "trials": []}] * len(batch)
+
+    monkeypatch.setattr(assess_module, "measure", recorded)
+    directory = RunDirectory.open(arm)
+    try:
+        first = best_walk_of_runs(directory, runs=[0])
+    except RunDirectoryError:  # run 0 hands back no walk: nothing to measure
+        first = None
+    written = assess_arm(arm, window=1)
+    assert not (arm / "run-001" / ASSESSMENT).exists()
+    assert (arm / BEST_WALK).read_bytes() == whole
+    if first is None:
+        assert written == []
+        assert asked == []
+        return
+    assert written == [best_walk_path(arm, 1)] == [arm / "best-walk-assessment-first-1.json"]
+    assert asked == [1]
+    kept_walk = json.loads(written[0].read_text())
+    assert (kept_walk["run"], kept_walk["genome"]) == (0, list(first.genome))
