@@ -588,10 +588,10 @@ def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed
             fell = sum(not trial.upright for trial in trials)
             stopped = sum(trial.upright and not trial.walking for trial in trials)
             where = " on some floor" if t in floored else ""
-            if fell or stopped:
-                failures.append(
-                    f"{t}: {fell} fell{where}, {stopped} stayed up but were not walking again{where}"
-                )
+            said = [f"{fell} fell{where}"] if fell else []
+            said += [f"{stopped} stayed up but were not walking again{where}"] if stopped else []
+            if said:
+                failures.append(f"{t}: " + ", ".join(said))
         if failures:
             notes.append(f"**{a.arm}**: " + "; ".join(failures))
     table = Table(

@@ -149,6 +149,8 @@ def test_the_sections_show_what_the_runs_keep(made: Path) -> None:
     summary = (out / "summary.md").read_text()
     assert "**Gaits held against real horses** (each run's best gait):" in summary
     assert "**Robust, not only sustained** (each run's best gait):" in summary
+    assert " 0 fell" not in summary  # a note names only the failures there were
+    assert " 0 stayed up" not in summary
     assert "**realism distance**: Kruskal-Wallis H =" in summary
     distances = {
         name: [r["realism"]["distance"] for r in kept(made / name) if r["gait"] == "measured"]
