@@ -52,6 +52,9 @@ class BackendSpec:
       ``weight_schedule`` for it is refused rather than silently ignored.
     * ``runtime_settings`` change speed, never a score (``threads``): they may
       differ when a run is resumed or re-evaluated.
+    * ``scoring_settings`` change what the fitness measures, beyond how its
+      components are weighed (``mujoco-horse``'s ``bump_floors``): reports refuse
+      to compare in one table arms that differ in them.
     * ``horizon_setting`` names the setting that says over how many cycles
       ``verify`` checks a gait (``horizon_cycles``): a run's gait may be checked
       for longer than the run checked it (``evaluate --horizon``); None: the
@@ -96,6 +99,7 @@ class BackendSpec:
     check_settings: Callable[[Mapping[str, Any]], Mapping[str, Any]] | None = None
     weight_names: Callable[[Mapping[str, Any]], frozenset[str]] | None = None
     runtime_settings: frozenset[str] = field(default_factory=frozenset)
+    scoring_settings: frozenset[str] = field(default_factory=frozenset)
     horizon_setting: str | None = None
     version: str | Callable[[], str] = ""
     unviable_fitness: Callable[[Mapping[str, Any], Mapping[str, float] | None], float] | None = None

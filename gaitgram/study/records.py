@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -79,6 +79,9 @@ class ArmRecord:
     planned_runs: int = 0  # the runs the arm will have (0: as many as it has)
     #: The backend's verdict the walks were counted with (None: it declares none).
     verdict: Verdict | None = None
+    #: The backend's ``scoring_settings`` that the runs set, sorted (another value scores another
+    #: thing: mujoco-horse's ``bump_floors``).
+    scoring: tuple[tuple[str, str], ...] = ()
     #: Only the arm's first ``window`` runs are read (``gaitgram report --runs``, a study that has
     #: grown since a report was made over fewer); None: all it plans.
     window: int | None = None
@@ -167,6 +170,7 @@ def load_arm(
     # What scored the runs (a directory without a manifest, hand-made or of gaitgram 0.1, cannot say).
     backend, version = (manifest["backend"], manifest["backend_version"]) if manifest else ("", "")
     verdict = _verdict(backend or config.backend or DEFAULT_BACKEND)
+    scoring = _scoring(backend or config.backend or DEFAULT_BACKEND, config.backend_settings)
     runs = tuple(_load_run(path / f"run-{run:03d}", config.generations, redo, verdict) for run in numbers)
     return ArmRecord(
         name or path.name,
@@ -181,6 +185,7 @@ def load_arm(
         tuple(numbers) if finished_only else (),
         window or config.runs,
         verdict,
+        scoring,
         window,
     )
 
@@ -192,6 +197,16 @@ def _running(path: Path, generations: int) -> bool:
     except (OSError, UnicodeDecodeError):
         return True
     return sum(bool(line.strip()) for line in lines) < generations + 1 or not (path / "best.json").exists()
+
+
+def _scoring(backend: str, settings: Mapping[str, Any]) -> tuple[tuple[str, str], ...]:
+    """The backend's scoring settings that ``settings`` set, as text (none if it is not installed:
+    its version, also compared, then tells the arms apart)."""
+    try:
+        declared = get_backend(backend).scoring_settings
+    except (PluginNotFound, PluginLoadError):
+        return ()
+    return tuple((key, json.dumps(settings[key])) for key in sorted(declared) if key in settings)
 
 
 def _verdict(backend: str) -> Verdict | None:
@@ -411,13 +426,22 @@ def _refuse_duplicates(arms: list[ArmRecord]) -> None:
 
 def check_scoring(arms: list[ArmRecord]) -> None:
     """Refuse arms scored by different backends or backend versions (another fitness revision, model
-    or simulator): their fitness values measure different things."""
-    versions = {(a.backend, a.backend_version) for a in arms}
+    or simulator), or under different scoring settings (other floors): their fitness values measure
+    different things."""
+    versions = {(a.backend, a.backend_version, a.scoring) for a in arms}
     if len(versions) > 1:
-        listing = "; ".join(f"{a.name}: {a.backend} {a.backend_version}" for a in arms)
+        listing = "; ".join(
+            f"{a.name}: "
+            + ", ".join(
+                [f"{a.backend} {a.backend_version}".strip() or "backend not recorded"]
+                + [f"{k} = {v}" for k, v in a.scoring]
+            )
+            for a in arms
+        )
         raise ReportError(
             f"these arms were scored differently ({listing}); their fitness values do not compare in one "
-            "table: report them separately, or run them again with one gaitgram"
+            "table: report them separately, or run them again with one gaitgram and the same scoring "
+            "settings"
         )
 
 

@@ -96,7 +96,8 @@ BACKEND = BackendSpec(
     # From a slow walk to a fast trot: speed (m/s) and the share of the cycle a hoof is down.
     descriptors={"measured_velocity": (0.0, 3.0), "measured_duty_factor": (0.3, 0.9)},
     verdict=Verdict("walk", "walk", WALK_COMPONENTS, "walk_sustained", WALK_CRITERION),
-    components=lambda settings: COMPONENTS,
+    components=lambda settings: COMPONENTS | ({"bumps_fitness"} if settings.get("bump_floors") else set()),
+    scoring_settings=frozenset({"bump_floors"}),
     bodies={name: body.summary for name, body in BODIES.items()},
     retarget=retarget,
     retarget_scalings=SCALINGS,

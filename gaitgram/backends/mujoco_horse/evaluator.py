@@ -33,10 +33,11 @@ non-finite measure.
 
 from __future__ import annotations
 
+import copy
 import math
 import os
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
 from typing import Any
 
 import mujoco
@@ -53,7 +54,13 @@ from gaitgram.backends.mujoco_horse.measures import (
     measure_cycles,
     window,
 )
-from gaitgram.backends.mujoco_horse.model import STATE_SPEC, HorseLayout, horse_layout, load_model
+from gaitgram.backends.mujoco_horse.model import (
+    STATE_SPEC,
+    HorseLayout,
+    bumpy_model,
+    horse_layout,
+    load_model,
+)
 from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles, weights_in_force
 from gaitgram.backends.mujoco_horse.targets import WALK_TERMS, GaitTargets, walk_targets
 from gaitgram.backends.mujoco_horse.task import fitness_components, walk_terms, weighted_fitness
@@ -183,6 +190,19 @@ class HorseEvaluator:
         self._start = self._standing_records()
         #: Steps simulated by ``evaluate`` and ``verify`` so far, summed over gaits (for benchmarks).
         self.simulated_steps = 0
+        #: Per bump floor a gait is also scored on (``bump_floors``): its seed and its evaluator.
+        self.floors: tuple[tuple[int, HorseEvaluator], ...] = tuple(
+            (
+                seed,
+                HorseEvaluator(
+                    replace(self.settings, bump_floors=None),
+                    chunk_steps=chunk_steps,
+                    group_size=group_size,
+                    model=copy.copy(bumpy_model(self.settings.body, seed)),
+                ),
+            )
+            for seed in self.settings.bump_floors or ()
+        )
 
     def _warmup(self, frequencies: np.ndarray) -> np.ndarray:
         """Per gait, its warm-up cycles: whole cycles lasting ``warmup_seconds``."""
@@ -394,11 +414,32 @@ class HorseEvaluator:
         rows = np.array([g for g in range(len(batch)) if g not in results], dtype=np.intp)
         if len(rows):
             active = weights_in_force(weights, self.settings.weights)
-            for row, evaluation in zip(
-                rows, self.evaluate_rows(batch, rows, active, cycles=cycles), strict=True
-            ):
+            evaluations = self.evaluate_rows(batch, rows, active, cycles=cycles)
+            if self.floors:
+                evaluations = self._on_floors(batch, rows, evaluations, active)
+            for row, evaluation in zip(rows, evaluations, strict=True):
                 results[int(row)] = evaluation
         return [results[g] for g in range(len(batch))]
+
+    def _on_floors(
+        self, batch: MotionBatch, rows: np.ndarray, flat: list[Evaluation], weights: Mapping[str, float]
+    ) -> list[Evaluation]:
+        """``flat``, the evaluations of ``rows`` on the flat floor, with the gaits that stood also
+        scored on each bump floor (over their warm-up and scored cycles, whatever ``flat`` checked):
+        :func:`on_floors`."""
+        standing = [k for k, evaluation in enumerate(flat) if evaluation.status.viable]
+        if not standing:
+            return flat
+        seeds = [seed for seed, _ in self.floors]
+        per_floor = []
+        for _, floor in self.floors:
+            per_floor.append(floor.evaluate_rows(batch, rows[standing], weights))
+            self.simulated_steps += floor.simulated_steps
+            floor.simulated_steps = 0
+        combined = list(flat)
+        for k, bumpy in zip(standing, zip(*per_floor, strict=True), strict=True):
+            combined[k] = on_floors(flat[k], bumpy, seeds)
+        return combined
 
     def evaluate_rows(
         self,
@@ -723,6 +764,21 @@ class HorseEvaluator:
             self._pool.close()
             self._pool = None
         self._sim = None
+        for _, floor in self.floors:
+            floor.close()
+
+
+def on_floors(flat: Evaluation, bumpy: Sequence[Evaluation], seeds: Sequence[int]) -> Evaluation:
+    """A gait's evaluation on the flat floor and on bump floors ``seeds`` as one (``bump_floors``):
+    unviable, as on the first floor it failed on (named), if it failed on any; else the flat floor's
+    measures and verdicts, scored by the mean fitness over all the floors (``bumps_fitness``: the
+    bump floors' mean). A walk is still judged on the flat floor, where the criterion is defined."""
+    for seed, evaluation in zip(seeds, bumpy, strict=True):
+        if not evaluation.status.viable:
+            return replace(evaluation, detail=f"on bump floor {seed}: {evaluation.detail}")
+    bumps = float(np.mean([evaluation.fitness for evaluation in bumpy]))
+    fitness = (flat.fitness + bumps * len(bumpy)) / (1 + len(bumpy))
+    return replace(flat, fitness=fitness, components={**flat.components, "bumps_fitness": bumps})
 
 
 def _tilt(quat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -60,6 +60,41 @@ def load_model(body: str | None = None) -> mujoco.MjModel:
     return copy.copy(_master_model(body))
 
 
+#: Floors of random bumps (:func:`bumpy_model`): heights uniform up to ``BUMP_HEIGHT`` in square
+#: cells of ``BUMP_CELL``, uneven turf under a 14 cm hoof.
+BUMP_HEIGHT = 0.02  # m
+BUMP_CELL = 0.1  # m
+FLAT_START = 1.0  # m ahead of the standing horse, and all of it behind
+BUMP_LENGTH = 60.0  # m of floor ahead: more than the longest walk over a horizon
+
+
+@cache
+def bumpy_model(body: str | None, seed: int) -> mujoco.MjModel:
+    """A body (None: the horse) on a floor of random bumps drawn from ``seed``, flat where it
+    stands and just ahead: the robustness trial's floors, and the ones a fitness scoring bumps
+    (``bump_floors``) plays gaits on. Compiled once per process; callers must not change it."""
+    spec = master_spec(body)
+    rng = np.random.default_rng(seed)
+    behind = 10.0  # m of floor behind the standing horse
+    half_length, half_width = (BUMP_LENGTH + behind) / 2, 2.0
+    ncol, nrow = round(2 * half_length / BUMP_CELL) + 1, round(2 * half_width / BUMP_CELL) + 1
+    centre = half_length - behind
+    x = centre + np.linspace(-half_length, half_length, ncol)
+    heights = rng.uniform(0.0, 1.0, size=(nrow, ncol))
+    heights[:, x < FLAT_START] = 0.0
+    heights[0, -1] = 1.0  # the scale is the bumps' full height, whatever the draw
+    field = spec.add_hfield()
+    field.name = "bumps"
+    field.nrow, field.ncol = nrow, ncol
+    field.size = [half_length, half_width, BUMP_HEIGHT, 0.1]
+    field.userdata = heights.ravel().tolist()
+    floor = spec.geom("floor")
+    floor.type = mujoco.mjtGeom.mjGEOM_HFIELD
+    floor.hfieldname = "bumps"
+    floor.pos = [centre, 0, 0]
+    return spec.compile()
+
+
 def _frozen(array: np.ndarray) -> np.ndarray:
     array = np.array(array)
     array.setflags(write=False)

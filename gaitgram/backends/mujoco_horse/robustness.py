@@ -9,8 +9,9 @@ under one disturbance:
   :data:`PUSH_SECONDS`, forward or backward, at the left hind's mid-stance of the first cycle
   after the warm-up: an impulse of 0.2 x 500 kg x 9.81 m/s^2 x 0.1 s = 98 N s, a change of speed
   of about 0.2 m/s (an eighth of a walk's), the size of a stumble or a bump from another horse;
-* **bumps**: the floor a height field of random heights up to :data:`BUMP_HEIGHT` (uniform,
-  cells of :data:`BUMP_CELL`), flat under the standing horse and for :data:`FLAT_START` ahead:
+* **bumps**: the floor a height field of random heights up to 2 cm (uniform, in 10 cm cells:
+  :func:`~gaitgram.backends.mujoco_horse.model.bumpy_model`), flat under the standing horse and
+  for a metre ahead:
   uneven turf under a 14 cm hoof. One seeded floor is one sample of such turf, and whether a gait
   crosses it is close to a coin toss for many gaits (of 71 kept walks played on ten floors, 33
   held on none, 3 on all, 35 on some), so the gait is played on each of
@@ -28,26 +29,21 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from functools import cache
 
 import mujoco
 import numpy as np
 
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
 from gaitgram.backends.mujoco_horse.measures import cycle_edges, measure_cycles
-from gaitgram.backends.mujoco_horse.model import master_spec
-from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles
+from gaitgram.backends.mujoco_horse.model import BUMP_HEIGHT, bumpy_model
+from gaitgram.backends.mujoco_horse.settings import TEST_FLOORS, HorseSettings, warmup_cycles
 from gaitgram.backends.mujoco_horse.task import walk_terms
 from gaitgram.motion.gait import MotionBatch
 
 PUSH_SHARE = 0.2
 PUSH_SECONDS = 0.1
-BUMP_HEIGHT = 0.02  # m
-BUMP_CELL = 0.1  # m
-FLAT_START = 1.0  # m ahead of the standing horse, and all of it behind
-BUMP_LENGTH = 60.0  # m of floor ahead: more than the longest walk over a horizon
 #: One floor per seed; ten floors tell a gait that holds on most from one that was lucky once.
-BUMP_SEEDS = tuple(range(26, 36))
+BUMP_SEEDS = TEST_FLOORS
 RECOVERY_CYCLES = 5
 #: The walk terms a disturbed gait must hold again; ``steady`` and ``sustained`` describe an
 #: undisturbed gait.
@@ -101,7 +97,7 @@ def disturbed(
     horse = HorseSettings.from_mapping(settings)
     if disturbance != "bumps":
         return _played(horse, batch, disturbance, None, weights)
-    floors = [_played(horse, batch, disturbance, _bumpy_model(horse.body, s), weights) for s in BUMP_SEEDS]
+    floors = [_played(horse, batch, disturbance, bumpy_model(horse.body, s), weights) for s in BUMP_SEEDS]
     return [_on_every_floor(disturbance, [floor[g] for floor in floors]) for g in range(len(batch))]
 
 
@@ -176,29 +172,3 @@ def _push(evaluator: HorseEvaluator, batch: MotionBatch, disturbance: str, steps
         start = int(edges[warmup] + round(0.3 / (frequency * evaluator.dt)))
         forces[g, start : start + duration, trunk * 6] = sign * size  # x of the force, world frame
     return forces
-
-
-@cache
-def _bumpy_model(body: str | None = None, seed: int = BUMP_SEEDS[0]) -> mujoco.MjModel:
-    """A body (the horse by default) on a floor of random bumps drawn from ``seed``, flat where it
-    stands and just ahead."""
-    spec = master_spec(body)
-    rng = np.random.default_rng(seed)
-    behind = 10.0  # m of floor behind the standing horse
-    half_length, half_width = (BUMP_LENGTH + behind) / 2, 2.0
-    ncol, nrow = round(2 * half_length / BUMP_CELL) + 1, round(2 * half_width / BUMP_CELL) + 1
-    centre = half_length - behind
-    x = centre + np.linspace(-half_length, half_length, ncol)
-    heights = rng.uniform(0.0, 1.0, size=(nrow, ncol))
-    heights[:, x < FLAT_START] = 0.0
-    heights[0, -1] = 1.0  # the scale is the bumps' full height, whatever the draw
-    field = spec.add_hfield()
-    field.name = "bumps"
-    field.nrow, field.ncol = nrow, ncol
-    field.size = [half_length, half_width, BUMP_HEIGHT, 0.1]
-    field.userdata = heights.ravel().tolist()
-    floor = spec.geom("floor")
-    floor.type = mujoco.mjtGeom.mjGEOM_HFIELD
-    floor.hfieldname = "bumps"
-    floor.pos = [centre, 0, 0]
-    return spec.compile()

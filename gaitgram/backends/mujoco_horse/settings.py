@@ -32,6 +32,14 @@ MIN_FROUDE = 0.05
 MAX_FROUDE = 2.5
 
 
+#: The bump floors (seeds of ``model.bumpy_model``) that the robustness trial tests kept gaits on:
+#: a fitness may not be scored on them (``bump_floors``), or gaits would be tested on the floors
+#: they were chosen on.
+TEST_FLOORS: tuple[int, ...] = tuple(range(26, 36))
+#: Most bump floors a fitness may score on: each is another simulation of every gait.
+MAX_BUMP_FLOORS = 10
+
+
 #: Unscored time after the ramp, rounded up to whole cycles of the gait: from rest, the horse
 #: settles to a steady speed 1.3-1.8 s after the ramp (docs/fitness.md, "Warm-up").
 DEFAULT_WARMUP_SECONDS = 1.5
@@ -58,6 +66,10 @@ class HorseSettings:
     #: plays a gait. A run started from a horse's population on a pony sets "horse", so that its
     #: first generation is the horse's gaits Froude-scaled; not spelt out when None.
     frequencies_of: str | None = None
+    #: Seeds of bump floors (``model.bumpy_model``) each gait is also played on: its fitness is the
+    #: mean over the flat floor and these, and a gait that falls on one is unviable. None: the flat
+    #: floor alone, not spelt out, so that the runs scored on it keep their fingerprints.
+    bump_floors: tuple[int, ...] | None = None
 
     def __post_init__(self) -> None:
         _check(self)
@@ -75,6 +87,7 @@ class HorseSettings:
             "weights",
             "body",
             "frequencies_of",
+            "bump_floors",
         )
         for key in settings:
             if key not in known:
@@ -98,6 +111,8 @@ class HorseSettings:
                     "frequencies_of", f"must be the name of a body, not {settings['frequencies_of']!r}"
                 )
             values["frequencies_of"] = settings["frequencies_of"]
+        if "bump_floors" in settings:
+            values["bump_floors"] = _floor_seeds(settings["bump_floors"])
         return cls(**values)
 
     @property
@@ -181,6 +196,33 @@ def _check(s: HorseSettings) -> None:
             f"for a kept gait; at most {MAX_SIMULATED_SECONDS:.0f} s are allowed (a shorter horizon, or a "
             "faster gait)",
         )
+
+
+def _floor_seeds(value: Any) -> tuple[int, ...]:
+    """``bump_floors``: distinct seeds, none a test floor of the robustness trial."""
+    if not isinstance(value, list | tuple) or not value:
+        raise SettingsError(
+            "bump_floors",
+            f"must be a list of floor seeds, such as [0, 1, 2], not {value!r} (leave it out to score "
+            "on the flat floor alone)",
+        )
+    seeds = tuple(_integer("bump_floors", seed) for seed in value)
+    if any(seed < 0 for seed in seeds) or len(set(seeds)) != len(seeds):
+        raise SettingsError("bump_floors", f"must be distinct whole numbers >= 0, not {list(seeds)}")
+    if len(seeds) > MAX_BUMP_FLOORS:
+        raise SettingsError(
+            "bump_floors",
+            f"at most {MAX_BUMP_FLOORS} floors (each is another simulation of every gait), not {len(seeds)}",
+        )
+    tested = [seed for seed in seeds if seed in TEST_FLOORS]
+    if tested:
+        raise SettingsError(
+            "bump_floors",
+            f"seed {tested[0]} is one of the floors the robustness trial tests kept gaits on "
+            f"({TEST_FLOORS[0]}-{TEST_FLOORS[-1]}): gaits scored on it would be tested on the floor they "
+            f"were chosen on; choose seeds outside {TEST_FLOORS[0]}-{TEST_FLOORS[-1]}",
+        )
+    return seeds
 
 
 def _number(key: str, value: Any) -> float:

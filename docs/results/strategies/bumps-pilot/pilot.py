@@ -19,7 +19,7 @@ from pathlib import Path
 from typer.testing import CliRunner
 
 import gaitgram.backends.mujoco_horse.evaluator as horse_evaluator
-from gaitgram.backends.mujoco_horse.robustness import _bumpy_model
+from gaitgram.backends.mujoco_horse.model import bumpy_model
 from gaitgram.cli import app
 
 TRAINING_FLOOR = 0
@@ -27,7 +27,7 @@ GRAMMAR = Path(__file__).resolve().parents[4] / "grammars" / "hybrid.gg"
 
 
 def main(out: str, runs: str) -> int:
-    horse_evaluator.load_model = lambda body=None: _bumpy_model(body, TRAINING_FLOOR)
+    horse_evaluator.load_model = lambda body=None: bumpy_model(body, TRAINING_FLOOR)
     flags = ["--runs", runs, "--seed", "0", "-o", out, "-q"]
     given = ["--resume", out, "--runs", runs, "-q"] if Path(out).exists() else [str(GRAMMAR), *flags]
     result = CliRunner().invoke(app, ["evolve", *given])
