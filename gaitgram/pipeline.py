@@ -60,6 +60,15 @@ Genome = tuple[int, ...]
 class PipelineError(ValueError):
     """A grammar, config or backend that cannot make a trustworthy pipeline; says why and how to fix."""
 
+    def __init__(self, message: str, *, setting: str | None = None) -> None:
+        super().__init__(message)
+        #: The ``[backend_settings]`` key at fault, if one is (dotted for a nested table's).
+        self.setting = setting
+
+
+def _settings_error(error: SettingsError) -> PipelineError:
+    return PipelineError(f"[backend_settings] {error.key}: {error.message}", setting=error.key)
+
 
 @dataclass(frozen=True)
 class Individual:
@@ -99,7 +108,7 @@ class Pipeline:
         try:
             settings = spec.checked_settings(config.backend_settings)
         except SettingsError as error:
-            raise PipelineError(f"[backend_settings] {error.key}: {error.message}") from None
+            raise _settings_error(error) from None
         config = replace(config, backend=name, backend_settings=settings)
         _check_weights(config, spec)
         _check_joints(grammar, spec)
@@ -249,7 +258,7 @@ class Pipeline:
         try:
             return self.spec.load({**self.config.backend_settings, **extra})
         except SettingsError as error:
-            raise PipelineError(f"[backend_settings] {error.key}: {error.message}") from None
+            raise _settings_error(error) from None
         except (ValueError, TypeError, ImportError, LookupError) as error:
             raise PipelineError(f"backend {self.backend!r}: {error}") from None
 

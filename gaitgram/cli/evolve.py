@@ -17,7 +17,7 @@ from gaitgram.backends.api import Evaluator
 from gaitgram.cli.common import check_output, err, fail, load_usable
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint
-from gaitgram.evolution.config import ConfigError, RunConfig, load_config, with_overrides
+from gaitgram.evolution.config import ConfigError, RunConfig, key_location, load_config, with_overrides
 from gaitgram.evolution.distributed import ClusterError, DaskEvaluator, connect
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
 from gaitgram.evolution.session import run_session, stop_on_interrupt
@@ -150,7 +150,13 @@ def _new_run(
         raise typer.BadParameter("give a grammar to evolve, or --resume DIR", param_hint="GRAMMAR")
     if out is not None:
         RunDirectory.check_new(out)  # before any work
-    pipeline = run_pipeline(load_usable(grammar, parse_defines(defines)), load_config(config, given))
+    try:
+        pipeline = run_pipeline(load_usable(grammar, parse_defines(defines)), load_config(config, given))
+    except PipelineError as error:
+        if error.setting is None or config is None:
+            raise
+        where = key_location(config, "backend_settings", error.setting)
+        raise PipelineError(f"{where}: {error}", setting=error.setting) from None
     if out is None:
         out = Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}"
         RunDirectory.check_new(out)

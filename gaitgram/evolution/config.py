@@ -208,6 +208,26 @@ def _toml_value(value: Any) -> str:
 _FIELDS = {f.name: f for f in fields(RunConfig)}
 
 
+def key_location(path: Path, table: str, key: str) -> str:
+    """``path:line:column`` where the TOML file ``path`` writes ``key`` (dotted: ``weights.velocty``)
+    of ``[table]``, as a key of that table or of a sub-table's header (``[table.weights]``); just
+    ``path`` where it is written otherwise (an inline table) or not at all."""
+    parts = key.split(".")
+    wanted = {(".".join([table, *parts[:i]]), parts[i]) for i in range(len(parts))}
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError):
+        return str(path)
+    header = ""
+    for number, line in enumerate(lines, 1):
+        stripped = line.strip()
+        if stripped.startswith("["):
+            header = stripped.strip("[] \t").replace(" ", "")
+        elif "=" in stripped and (header, stripped.split("=", 1)[0].strip().strip("\"'")) in wanted:
+            return f"{path}:{number}:{len(line) - len(line.lstrip()) + 1}"
+    return str(path)
+
+
 def read_toml(path: Path) -> dict[str, Any]:
     """A TOML file's table, every failure a :class:`ConfigError` naming the file."""
     try:

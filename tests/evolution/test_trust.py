@@ -189,17 +189,19 @@ def test_a_bad_config_is_refused_before_a_run_directory_exists(
 
 
 @pytest.mark.parametrize(
-    ("settings", "message"),
+    ("settings", "where", "message"),
     [
-        ("[backend_settings]\nfrode = 0.4\n", "frode: unknown mujoco-horse setting; did you mean froude?"),
-        ("[backend_settings]\nfroude = 0.06\nhorizon_cycles = 100\n", "at most 120 s are allowed"),
-        ("[backend_settings]\nfroude = inf\n", "froude"),
-        ("[backend_settings.weights]\nvelocty = 1.0\n", "weights.velocty: no fitness component"),
-        ("[[weight_schedule]]\nstart = 0\nweights = { strides = 2.0 }\n", "did you mean stride?"),
+        ("[backend_settings]\nfrode = 0.4\n", ":6:1", "frode: unknown mujoco-horse setting; did you mean"),
+        ("[backend_settings]\nfroude = 0.06\n  horizon_cycles = 100\n", ":7:3", "at most 120 s are allowed"),
+        ("[backend_settings]\nfroude = inf\n", "", "froude: inf is not a finite number"),
+        ("[backend_settings.weights]\nvelocty = 1.0\n", ":6:1", "weights.velocty: no fitness component"),
+        ("backend_settings = { weights = { velocty = 1 } }\n", "", "weights.velocty: no fitness component"),
+        ("[backend_settings]\nbump_floors = [0, 30]\n", ":6:1", "bump_floors: seed 30 is one of the floors"),
+        ("[[weight_schedule]]\nstart = 0\nweights = { strides = 2.0 }\n", None, "did you mean stride?"),
     ],
 )
-def test_bad_mujoco_settings_are_refused_with_the_key_named(
-    tmp_path: Path, settings: str, message: str
+def test_bad_mujoco_settings_are_refused_with_the_key_named_where_it_is_written(
+    tmp_path: Path, settings: str, where: str | None, message: str
 ) -> None:
     grammar = Path(__file__).resolve().parents[2] / "grammars" / "sine-walk.gg"
     config = tmp_path / "run.toml"
@@ -207,6 +209,8 @@ def test_bad_mujoco_settings_are_refused_with_the_key_named(
     result = evolve(str(grammar), "-c", str(config), "-o", str(tmp_path / "run"))
     assert result.exit_code == 2
     assert message in result.stderr
+    if where is not None:  # a backend setting: the file, and the line and column where it is written
+        assert f"error: {config}{where}: [backend_settings] " in result.stderr
     assert not (tmp_path / "run").exists()
 
 
