@@ -75,7 +75,9 @@ def seed_and_crouch() -> MotionBatch:
 def test_the_evaluator_scores_each_gait_on_the_flat_and_on_each_floor() -> None:
     batch = seed_and_crouch()
     scored = HorseEvaluator(HorseSettings(bump_floors=FLOORS))
+    assert "floors" not in vars(scored)  # built when first scored on: playing a gait plays it on the flat
     walk, crouch = scored.evaluate(batch)
+    assert [seed for seed, _ in scored.floors] == list(FLOORS)
     flat = HorseEvaluator(HorseSettings()).evaluate(batch)
     apart = [
         HorseEvaluator(HorseSettings(), model=bumpy_model(None, seed)).evaluate(batch) for seed in FLOORS

@@ -38,6 +38,7 @@ import math
 import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
+from functools import cached_property
 from typing import Any
 
 import mujoco
@@ -190,14 +191,18 @@ class HorseEvaluator:
         self._start = self._standing_records()
         #: Steps simulated by ``evaluate`` and ``verify`` so far, summed over gaits (for benchmarks).
         self.simulated_steps = 0
-        #: Per bump floor a gait is also scored on (``bump_floors``): its seed and its evaluator.
-        self.floors: tuple[tuple[int, HorseEvaluator], ...] = tuple(
+
+    @cached_property
+    def floors(self) -> tuple[tuple[int, HorseEvaluator], ...]:
+        """Per bump floor a gait is also scored on (``bump_floors``): its seed and its evaluator,
+        built on first use (whoever only plays gaits, as ``simulate`` does, plays them on the flat)."""
+        return tuple(
             (
                 seed,
                 HorseEvaluator(
                     replace(self.settings, bump_floors=None),
-                    chunk_steps=chunk_steps,
-                    group_size=group_size,
+                    chunk_steps=self.chunk_steps,
+                    group_size=self.group_size,
                     model=copy.copy(bumpy_model(self.settings.body, seed)),
                 ),
             )
@@ -415,7 +420,7 @@ class HorseEvaluator:
         if len(rows):
             active = weights_in_force(weights, self.settings.weights)
             evaluations = self.evaluate_rows(batch, rows, active, cycles=cycles)
-            if self.floors:
+            if self.settings.bump_floors:
                 evaluations = self._on_floors(batch, rows, evaluations, active)
             for row, evaluation in zip(rows, evaluations, strict=True):
                 results[int(row)] = evaluation
@@ -764,7 +769,7 @@ class HorseEvaluator:
             self._pool.close()
             self._pool = None
         self._sim = None
-        for _, floor in self.floors:
+        for _, floor in self.__dict__.get("floors", ()):
             floor.close()
 
 
