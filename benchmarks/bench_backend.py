@@ -16,7 +16,8 @@ Then every body of ``bodies.toml`` evaluates the evolved population (the same ga
 body's target frequency): evaluations/s and the ratio to the horse's, measured in the same run.
 A body's time step and its cycle both scale with the square root of its size (dynamic
 similarity), so every body simulates about the same number of steps for its cycles, and should
-evaluate at about the horse's rate (measured: 0.86-1.00 of it).
+evaluate at about the horse's rate (measured: 0.86-1.00 of it). Last, the evolved population
+scored on bump floors besides the flat one (``bump_floors``), its time against the flat floor's.
 
 All run the same model on the same gaits in the same process, measurements interleaved and the
 best of several taken (the machine's load drifts). The raw figure is ``mujoco.rollout`` of each
@@ -171,6 +172,29 @@ def main() -> None:
         for _, evaluator in revisions:
             evaluator.close()
     per_body(threads)
+    on_bump_floors(threads)
+
+
+def on_bump_floors(threads: int) -> None:
+    """The price of ``bump_floors``: the evolved population scored on the flat floor and on 1 and 3
+    bump floors besides, against the flat floor alone in the same run (expected: about 1 + floors
+    times, less where gaits fall on the flat and are not played on the floors)."""
+    batch = evolved()
+    print(f"\n{'bump floors':<12} {'steps':>8} {'mujoco-horse':>16} {'time vs flat':>12}")
+    flat = None
+    for floors in ((), (0,), (0, 1, 2)):
+        evaluator = HorseEvaluator(HorseSettings(threads=threads, bump_floors=floors or None))
+        try:
+            evaluator.evaluate(batch)  # warm-up, and the floors built
+            before = evaluator.simulated_steps
+            evaluator.evaluate(batch)
+            steps = evaluator.simulated_steps - before
+            best = min(timed(lambda e=evaluator: e.evaluate(batch)) for _ in range(ROUNDS))
+            flat = flat or best
+            label = ", ".join(map(str, floors)) or "none (flat)"
+            print(f"{label:<12} {steps:8d} {len(batch) / best:8.1f} evals/s {best / flat:12.2f}")
+        finally:
+            evaluator.close()
 
 
 def per_body(threads: int) -> None:
