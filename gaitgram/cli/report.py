@@ -62,6 +62,14 @@ _Runs = Annotated[
         show_default=False,
     ),
 ]
+_MixedScoring = Annotated[
+    bool,
+    typer.Option(
+        "--mixed-scoring",
+        help="Report arms scored under different scoring settings (other bump floors) together: the "
+        "report says first that their fitness values do not compare; walks, realism and robustness do.",
+    ),
+]
 _Cell = Annotated[
     list[str] | None,
     typer.Option(
@@ -79,6 +87,7 @@ def command(
     watch: _Watch = False,
     interval: _Interval = 30.0,
     runs: _Runs = None,
+    mixed_scoring: _MixedScoring = False,
     cell: _Cell = None,
 ) -> None:
     """Tables, statistics and figures over runs, like the paper's and more.
@@ -112,6 +121,7 @@ def command(
             chosen=chosen,
             assess=assess,
             runs=runs,
+            mixed_scoring=mixed_scoring,
             progress=err.print,
         )
     except (ReportError, GalleryError) as error:

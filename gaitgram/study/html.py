@@ -18,7 +18,17 @@ from html import escape
 from typing import Any
 
 from gaitgram.study.formats import left_aligned
-from gaitgram.study.model import Figure, Kind, Section, StudyReport, Table, cell_text, p_text, value_text
+from gaitgram.study.model import (
+    LEADING,
+    Figure,
+    Kind,
+    Section,
+    StudyReport,
+    Table,
+    cell_text,
+    p_text,
+    value_text,
+)
 
 _NUM = ' class="num"'
 #: The file of a figure the page embeds, by preference, and its media type.
@@ -105,9 +115,7 @@ def html(report: StudyReport, images: Mapping[str, bytes], *, refresh: float | N
         "<body>",
         f"<h1>{escape(title)}</h1>",
     ]
-    ongoing = [s for s in report.document if s.name == "progress"]  # a study still running: first
-    ordered = [*ongoing, *(s for s in report.document if s.name != "progress")]
-    body = [line for section in ordered for line in _section(section, images)]
+    body = [line for section in report.document for line in _section(section, images)]
     arm = report.arms[0]
     scored = f"Scored by {arm.backend} ({arm.backend_version}). " if arm.backend else ""
     tail = [
@@ -120,7 +128,7 @@ def html(report: StudyReport, images: Mapping[str, bytes], *, refresh: float | N
 
 
 def _section(section: Section, images: Mapping[str, bytes]) -> list[str]:
-    css = ' class="progress"' if section.name == "progress" else ""
+    css = ' class="progress"' if section.name in LEADING else ""
     lines = [f'<section id="{escape(section.name)}"{css}>']
     if section.title:
         scope = f' <span class="scope">({escape(section.scope)})</span>' if section.scope else ""

@@ -23,6 +23,7 @@ docs/results keep byte for byte.
 
 from __future__ import annotations
 
+import json
 import math
 import re
 from collections.abc import Mapping, Sequence
@@ -35,7 +36,7 @@ import numpy as np
 
 from gaitgram.backends.api import Verdict
 from gaitgram.strategies.kept import Front, Repertoire
-from gaitgram.study.records import ArmRecord, ReportError, check_comparable
+from gaitgram.study.records import ArmRecord, ReportError, check_comparable, scoring_listing
 from gaitgram.study.stats import Comparison, bootstrap_median_ci, compare, wilson_interval
 
 # ---- the building blocks of a section --------------------------------------------------------
@@ -531,6 +532,11 @@ def verdict_json(verdict: Verdict | None) -> dict[str, Any] | None:
     }
 
 
+#: Sections that say how to read a report, put before its summary: a study still running, a grown
+#: study read at its first runs, arms scored differently.
+LEADING = ("progress", "window", "scoring")
+
+
 @dataclass(frozen=True)
 class StudyReport:
     arms: tuple[ArmRecord, ...]
@@ -555,8 +561,10 @@ class StudyReport:
 
     @property
     def document(self) -> tuple[Section, ...]:
-        """Every section in order, as Markdown draws them: the summary, then :attr:`sections`."""
-        return (self.summary, *self.sections)
+        """Every section in order: those that say how to read the rest (:data:`LEADING`) first,
+        then the summary, then the other :attr:`sections`."""
+        leading = tuple(s for s in self.sections if s.name in LEADING)
+        return (*leading, self.summary, *(s for s in self.sections if s.name not in LEADING))
 
     @property
     def figures(self) -> tuple[Figure, ...]:
@@ -589,6 +597,8 @@ class StudyReport:
                     "walks": s.walks,
                     "walk_rate_ci95": None if s.walk_rate_ci is None else list(s.walk_rate_ci),
                     "walk_held_rate": s.walk_held_rate,
+                    # what scored it, where a setting changes what the fitness measures (bump floors)
+                    **({"scoring": {k: json.loads(v) for k, v in a.scoring}} if a.scoring else {}),
                 }
                 for s, a in zip(self.summaries, self.arms, strict=True)
             ],
@@ -647,17 +657,36 @@ def _row_json(columns: Sequence[Column], row: Sequence[Any]) -> dict[str, Any]:
     return record
 
 
+def scoring_section(arms: Sequence[ArmRecord]) -> Section:
+    """What a report of arms scored under different settings (``--mixed-scoring``) says first."""
+    return Section(
+        "scoring",
+        "Scored differently",
+        "the fitness values do not compare across these arms",
+        text=(
+            f"The arms were scored under different settings ({scoring_listing(arms)}): their fitness "
+            "values, and the rank tests on them (final best, final average, first-generation best), "
+            "measure different things and are not to be compared across these arms. Walks, realism "
+            "and robustness are measured the same way on every arm's gaits, and compare."
+        ),
+    )
+
+
 def build_report(
     arms: Sequence[ArmRecord],
     *,
     title: str = "",
     sections: Sequence[Section] = (),
+    mixed_scoring: bool = False,
 ) -> StudyReport:
     """The report of ``arms``: each arm summarised, every difference tested; ``sections`` follow the
-    summary."""
+    summary. With ``mixed_scoring``, arms scored under different scoring settings are reported
+    together, a section saying first that their fitness values do not compare."""
     if not arms:
         raise ReportError("nothing to report: no arms")
-    check_comparable(list(arms))
+    check_comparable(list(arms), mixed_scoring=mixed_scoring)
+    if len({a.scoring for a in arms}) > 1:
+        sections = (scoring_section(arms), *sections)
     names = [a.name for a in arms]
     if len(set(names)) != len(names):
         raise ReportError(f"two arms are called {next(n for n in names if names.count(n) > 1)!r}")

@@ -424,25 +424,35 @@ def _refuse_duplicates(arms: list[ArmRecord]) -> None:
             )
 
 
-def check_scoring(arms: list[ArmRecord]) -> None:
+def check_scoring(arms: list[ArmRecord], *, mixed_scoring: bool = False) -> None:
     """Refuse arms scored by different backends or backend versions (another fitness revision, model
-    or simulator), or under different scoring settings (other floors): their fitness values measure
-    different things."""
-    versions = {(a.backend, a.backend_version, a.scoring) for a in arms}
-    if len(versions) > 1:
-        listing = "; ".join(
-            f"{a.name}: "
-            + ", ".join(
-                [f"{a.backend} {a.backend_version}".strip() or "backend not recorded"]
-                + [f"{k} = {v}" for k, v in a.scoring]
-            )
-            for a in arms
+    or simulator), or, unless ``mixed_scoring``, under different scoring settings (other floors):
+    their fitness values measure different things."""
+    versions = {(a.backend, a.backend_version) for a in arms}
+    scorings = {a.scoring for a in arms}
+    if len(versions) > 1 or (len(scorings) > 1 and not mixed_scoring):
+        allow = (
+            "; or give --mixed-scoring to report them together, their fitness apart"
+            if len(versions) == 1
+            else ""
         )
         raise ReportError(
-            f"these arms were scored differently ({listing}); their fitness values do not compare in one "
-            "table: report them separately, or run them again with one gaitgram and the same scoring "
-            "settings"
+            f"these arms were scored differently ({scoring_listing(arms)}); their fitness values do not "
+            "compare in one table: report them separately, or run them again with one gaitgram and the "
+            f"same scoring settings{allow}"
         )
+
+
+def scoring_listing(arms: Sequence[ArmRecord]) -> str:
+    """Each arm's backend, version and scoring settings, for a message."""
+    return "; ".join(
+        f"{a.name}: "
+        + ", ".join(
+            [f"{a.backend} {a.backend_version}".strip() or "backend not recorded"]
+            + [f"{k} = {v}" for k, v in a.scoring]
+        )
+        for a in arms
+    )
 
 
 def check_budgets(arms: list[ArmRecord]) -> None:
@@ -456,8 +466,8 @@ def check_budgets(arms: list[ArmRecord]) -> None:
         )
 
 
-def check_comparable(arms: list[ArmRecord]) -> None:
-    """Refuse arms whose numbers do not compare in one table: scored differently, or at different
-    budgets."""
-    check_scoring(arms)
+def check_comparable(arms: list[ArmRecord], *, mixed_scoring: bool = False) -> None:
+    """Refuse arms whose numbers do not compare in one table: scored differently (under other
+    scoring settings, unless ``mixed_scoring``), or at different budgets."""
+    check_scoring(arms, mixed_scoring=mixed_scoring)
     check_budgets(arms)

@@ -67,10 +67,12 @@ def study_report(
     title: str = "",
     gaits: int = 0,
     chosen: Sequence[tuple[int, ...]] = (),
+    mixed_scoring: bool = False,
 ) -> StudyReport:
     """The report of ``arms``, with the sections their strategies call for; ``chosen`` cells (or
     ``gaits`` cells spread over each repertoire) are animated and outlined on its heat map, and
-    with ``gaits`` each arm's best walk and ``gaits`` trade-offs of each front are animated."""
+    with ``gaits`` each arm's best walk and ``gaits`` trade-offs of each front are animated. With
+    ``mixed_scoring``, arms scored under other scoring settings are reported together."""
     fronts, repertoires = kept_sets(arms)
     cells = {
         name: list(chosen) or spread_cells(repertoire, gaits)
@@ -87,7 +89,9 @@ def study_report(
         robustness_section(arms, assessed),
         gallery and _beside_the_real_walks(gallery, arms, assessed),
     )
-    return build_report(arms, title=title, sections=[s for s in sections if s is not None])
+    return build_report(
+        arms, title=title, sections=[s for s in sections if s is not None], mixed_scoring=mixed_scoring
+    )
 
 
 def _beside_the_real_walks(gallery: Section, arms: Sequence[ArmRecord], assessed: Sequence) -> Section:
@@ -186,6 +190,7 @@ def make_report(
     chosen: Sequence[tuple[int, ...]] = (),
     assess: bool = False,
     runs: int | None = None,
+    mixed_scoring: bool = False,
     progress: Callable[[str], None] | None = None,
 ) -> list[Path]:
     """``gaitgram report``: the report of study or run directories whose runs have all finished
@@ -193,10 +198,11 @@ def make_report(
     each run's best gait is first measured where its kept assessment is missing or stale
     (simulation; :mod:`gaitgram.study.assess`)."""
     arms, title = load_arms(directories, runs=runs)
-    check_comparable(arms)  # before anything is made
+    check_comparable(arms, mixed_scoring=mixed_scoring)  # before anything is made
     if assess:
         assess_arms(arms, progress=progress)
-    report = _with_window(study_report(arms, title=title, gaits=gaits, chosen=chosen), arms)
+    report = study_report(arms, title=title, gaits=gaits, chosen=chosen, mixed_scoring=mixed_scoring)
+    report = _with_window(report, arms)
     return write_report(report, out, force=force)
 
 
@@ -254,6 +260,7 @@ def watch_report(
     chosen: Sequence[tuple[int, ...]] = (),
     assess: bool = False,
     runs: int | None = None,
+    mixed_scoring: bool = False,
     progress: Callable[[str], None] | None = None,
     sleep: Callable[[float], None] = time.sleep,
 ) -> list[Path]:
@@ -269,10 +276,11 @@ def watch_report(
         planned = _planned(directories, runs)
         done = sum(len(a.runs) for a in arms) >= planned
         if arms and state != seen:
-            check_comparable(arms)
+            check_comparable(arms, mixed_scoring=mixed_scoring)
             if assess:
                 assess_arms(arms, progress=progress)
-            report = _with_window(study_report(arms, title=title, gaits=gaits, chosen=chosen), arms)
+            report = study_report(arms, title=title, gaits=gaits, chosen=chosen, mixed_scoring=mixed_scoring)
+            report = _with_window(report, arms)
             ongoing = None if done else progress_section(arms, planned, interval)
             if ongoing is not None:
                 report = replace(report, sections=(ongoing, *report.sections))

@@ -4,6 +4,7 @@ floor, GE's best gaits held on 82 % of the trial's floors against 23 % scored on
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -104,5 +105,19 @@ def test_a_run_scored_on_floors_is_not_compared_with_one_scored_on_the_flat(tmp_
     assert "alpha: backend not recorded; " in result.stderr
     assert "gamma: backend not recorded, bump_floors = [0, 1])" in result.stderr
     assert not (tmp_path / "r").exists()
+    assert "give --mixed-scoring to report them together" in result.stderr
     alone = runner.invoke(app, ["report", str(study / "arms" / "gamma"), "-o", str(tmp_path / "g")])
     assert alone.exit_code == 0, alone.stderr
+    mixed = runner.invoke(app, ["report", str(study), "--mixed-scoring", "-o", str(tmp_path / "m")])
+    assert mixed.exit_code == 0, mixed.stderr
+    said = (tmp_path / "m" / "summary.md").read_text()
+    assert said.index("**Scored differently**") < said.index("| arm | runs |")  # said before the table
+    assert "gamma: backend not recorded, bump_floors = [0, 1])" in said
+    assert "not to be compared across these arms" in said
+    arms = {a["name"]: a for a in json.loads((tmp_path / "m" / "summary.json").read_text())["arms"]}
+    assert arms["gamma"]["scoring"] == {"bump_floors": [0, 1]}
+    assert "scoring" not in arms["alpha"]  # the flat floor: nothing recorded, as before the setting
+    flat = runner.invoke(
+        app, ["report", str(study / "arms" / "alpha"), "--mixed-scoring", "-o", str(tmp_path / "a")]
+    )
+    assert "Scored differently" not in flat.stdout  # one scoring: nothing to say
