@@ -13,7 +13,7 @@ import difflib
 import math
 import os
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
@@ -210,20 +210,26 @@ _FIELDS = {f.name: f for f in fields(RunConfig)}
 
 def key_location(path: Path, table: str, key: str) -> str:
     """``path:line:column`` where the TOML file ``path`` writes ``key`` (dotted: ``weights.velocty``)
-    of ``[table]``, as a key of that table or of a sub-table's header (``[table.weights]``); just
-    ``path`` where it is written otherwise (an inline table) or not at all."""
+    of ``[table]`` (``""``: the top level), as a key of that table, a sub-table's header
+    (``[table.weights]``) or the header of a table ``key`` names; just ``path`` where it is written
+    otherwise (an inline table) or not at all."""
     parts = key.split(".")
-    wanted = {(".".join([table, *parts[:i]]), parts[i]) for i in range(len(parts))}
+    wanted = {(".".join(filter(None, [table, *parts[:i]])), parts[i]) for i in range(len(parts))}
+    named = ".".join(filter(None, [table, key]))
     try:
         lines = path.read_text(encoding="utf-8").splitlines()
     except (OSError, UnicodeDecodeError):
         return str(path)
     header = ""
     for number, line in enumerate(lines, 1):
-        stripped = line.strip()
+        stripped = line.split("#", 1)[0].strip()
+        found = False
         if stripped.startswith("["):
             header = stripped.strip("[] \t").replace(" ", "")
-        elif "=" in stripped and (header, stripped.split("=", 1)[0].strip().strip("\"'")) in wanted:
+            found = header == named
+        elif "=" in stripped:
+            found = (header, stripped.split("=", 1)[0].strip().strip("\"'")) in wanted
+        if found:
             return f"{path}:{number}:{len(line) - len(line.lstrip()) + 1}"
     return str(path)
 
@@ -249,7 +255,7 @@ def load_config(path: Path | None, overrides: Mapping[str, Any] | None = None) -
     values: dict[str, Any] = {}
     for key, value in data.items():
         if key not in _FIELDS:
-            raise ConfigError(f"{where}: unknown key {key!r}{_suggest(key, _FIELDS)}")
+            raise ConfigError(f"{_located(path, key)}: unknown key {key!r}{_suggest(key, _FIELDS)}")
         values[key] = value
     if path is not None and isinstance(values.get("start_from"), str):  # relative to the file
         values["start_from"] = os.path.abspath(path.parent / values["start_from"])
@@ -261,29 +267,46 @@ def load_config(path: Path | None, overrides: Mapping[str, Any] | None = None) -
             values[key] = value
     if path is not None and flags:
         where = f"{path} with {', '.join('--' + k.replace('_', '-') for k in flags)}"
-    return config_from_mapping(values, where)
+
+    def locate(key: str) -> str:
+        """Where a key's value came from: its flag, or its place in the file."""
+        if key in flags and key not in ("backend_settings", "strategy_settings"):
+            return "--" + key.replace("_", "-")
+        return where if path is None else _located(path, key)
+
+    return config_from_mapping(values, where, locate)
 
 
-def config_from_mapping(values: Mapping[str, Any], where: str) -> RunConfig:
-    """A config from plain TOML values, every key checked; errors start with ``where``."""
+def _located(path: Path | None, key: str) -> str:
+    return "the command line" if path is None else key_location(path, "", key)
+
+
+def config_from_mapping(
+    values: Mapping[str, Any], where: str, locate: Callable[[str], str] | None = None
+) -> RunConfig:
+    """A config from plain TOML values, every key checked; errors start with where the key is
+    (``locate(key)``: a file's line and column) or else ``where``."""
     converted: dict[str, Any] = {}
     for key, value in values.items():
+        here = locate(key) if locate is not None else where
         if key not in _FIELDS:
-            raise ConfigError(f"{where}: unknown key {key!r}{_suggest(key, _FIELDS)}")
+            raise ConfigError(f"{here}: unknown key {key!r}{_suggest(key, _FIELDS)}")
         if key == "weight_schedule":
-            converted[key] = _schedule(value, where)
+            converted[key] = _schedule(value, here)
         elif key in ("backend_settings", "strategy_settings"):
             if not isinstance(value, Mapping):
-                raise ConfigError(f"{where}: {key}: must be a table [{key}]")
-            _check_finite(value, f"{where}: [{key}]")
+                raise ConfigError(f"{here}: {key}: must be a table [{key}]")
+            for name, setting in value.items():
+                at = locate(f"{key}.{name}") if locate is not None else where
+                _check_finite(setting, f"{at}: [{key}] {name}")
             converted[key] = dict(value)
         elif key == "codons":
             try:
                 converted[key] = CodonMode(value)
             except ValueError:
-                raise ConfigError(f"{where}: codons: must be 'lazy' or 'eager', not {value!r}") from None
+                raise ConfigError(f"{here}: codons: must be 'lazy' or 'eager', not {value!r}") from None
         else:
-            converted[key] = _typed(key, value, where)
+            converted[key] = _typed(key, value, here)
     try:
         return RunConfig(**converted)
     except ConfigError as error:

@@ -193,7 +193,7 @@ def test_a_bad_config_is_refused_before_a_run_directory_exists(
     [
         ("[backend_settings]\nfrode = 0.4\n", ":6:1", "frode: unknown mujoco-horse setting; did you mean"),
         ("[backend_settings]\nfroude = 0.06\n  horizon_cycles = 100\n", ":7:3", "at most 120 s are allowed"),
-        ("[backend_settings]\nfroude = inf\n", "", "froude: inf is not a finite number"),
+        ("[backend_settings]\nfroude = inf\n", ":6:1", "froude: inf is not a finite number"),
         ("[backend_settings.weights]\nvelocty = 1.0\n", ":6:1", "weights.velocty: no fitness component"),
         ("backend_settings = { weights = { velocty = 1 } }\n", "", "weights.velocty: no fitness component"),
         ("[backend_settings]\nbump_floors = [0, 30]\n", ":6:1", "bump_floors: seed 30 is one of the floors"),
@@ -473,3 +473,32 @@ def test_a_growth_killed_between_manifest_and_config_still_opens(finished_run: P
     (finished_run / "config.toml").write_text(before)  # as if killed before config.toml was replaced
     assert RunDirectory.open(finished_run).config.runs == 1
     assert RunDirectory.open(finished_run).grow(2).config.runs == 2
+
+
+@pytest.mark.parametrize(
+    ("config_text", "flags", "said"),
+    [
+        (
+            "generations = 1\n\n  populaton = 4\n",
+            [],
+            "run.toml:3:3: unknown key 'populaton'; did you mean population?",
+        ),
+        ('generations = "a"  # how many\n', [], "run.toml:1:1: generations: must be an int, not 'a'"),
+        (
+            "generations = 1\nbackend_settings = { weights = { velocity = nan } }\n",
+            [],
+            "run.toml:2:1: [backend_settings]",
+        ),
+        ("[[weight_schedule]]\nstart = 0\nweights = 3\n", [], "run.toml:1:1: weight_schedule[0]"),
+    ],
+)
+def test_a_bad_config_key_is_named_where_it_was_given(
+    tmp_path: Path, config_text: str, flags: list[str], said: str
+) -> None:
+    grammar = Path(__file__).resolve().parents[2] / "grammars" / "sine-walk.gg"
+    config = tmp_path / "run.toml"
+    config.write_text(config_text)
+    result = evolve(str(grammar), "-c", str(config), *flags, "-o", str(tmp_path / "run"))
+    assert result.exit_code == 2
+    assert said in result.stderr, result.stderr
+    assert not (tmp_path / "run").exists()
