@@ -9,7 +9,9 @@ A gait is played from the standing horse: the curves blend in over the ramp, the
 ``warmup_cycles`` of its own cycles settle it (unscored), then ``cycles`` cycles are
 scored. :meth:`HorseEvaluator.evaluate` simulates that much; :meth:`HorseEvaluator.verify`
 goes on to ``horizon_cycles`` and checks that the gait stays upright (and, for a
-walk, a walk) for every one of them: the check that the gaits a run keeps must pass.
+walk, a walk) for every one of them: the check that the gaits a run keeps must pass. With
+``bump_floors``, each gait that stands is also scored on those floors of bumps, each by an
+evaluator of its own on that floor's model, and its fitness is the mean (:func:`on_floors`).
 
 A generation is simulated in groups of at most ``group_size`` gaits, each group
 in chunks of ``chunk_steps`` steps (0.25 s simulated). After each chunk the
