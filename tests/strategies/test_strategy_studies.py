@@ -158,6 +158,22 @@ def test_the_multi_objective_study_is_the_strategies_ge_arm_but_for_the_strategy
     assert {**two.config.as_dict(), "strategy_settings": {}, "runs": 30} == study.arms[0].config.as_dict()
 
 
+def test_the_bump_floors_study_is_the_strategies_ge_arm_but_for_the_floors() -> None:
+    """Its report reads beside strategies.toml's ge-hybrid arm (--mixed-scoring): run i must be the
+    same run but for the floors it is scored on, none of them a floor its gaits are tested on."""
+    ge = load_study(ROOT / "studies" / "strategies.toml").arms[0]
+    (arm,) = load_study(ROOT / "studies" / "bump-floors.toml").arms
+    assert arm.grammar.resolve() == ge.grammar.resolve()
+    settings = dict(arm.config.backend_settings)
+    assert settings.pop("bump_floors") == [0, 1, 2]
+    assert {**arm.config.as_dict(), "backend_settings": settings, "runs": 30} == {
+        **ge.config.as_dict(),
+        "backend": "mujoco-horse",
+    }
+    pipeline = run_pipeline(check(parse(read_source(arm.grammar))), arm.config)
+    assert pipeline.config.backend_settings["bump_floors"] == (0, 1, 2)
+
+
 @pytest.mark.slow  # a study of every strategy, then GIFs of chosen gaits
 def test_report_animates_chosen_trade_offs_and_cells(tmp_path: Path) -> None:
     """On the horse, briefly: two GIFs along a front, one of a chosen repertoire cell."""
