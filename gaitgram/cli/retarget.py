@@ -48,17 +48,29 @@ def command(
             help="Play every finished run's best (a study arm's results), not the best of all.",
         ),
     ] = False,
+    runs: Annotated[
+        int | None,
+        typer.Option(
+            "--runs",
+            min=1,
+            help="With --each-run: the first N runs alone (runs 0 to N-1), as an arm that has grown "
+            "since stood.",
+            show_default=False,
+        ),
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
 ) -> None:
     """Play a run's best gait on another body: the same joint curves, scored by that body's
     fitness and checked over its horizon. Exit 1 if it is viable under no scaling."""
     if each_run and walk:
         raise fail("--each-run plays each run's best gait; drop --walk or --each-run")
+    if runs is not None and not each_run:
+        raise fail("--runs chooses the runs --each-run plays; add --each-run, or drop --runs")
     try:
         if each_run:
             directory = RunDirectory.open(run)
             scalings = scaling or list(directory.pipeline.spec.retarget_scalings)
-            results = retarget_runs(directory, to, scalings)
+            results = retarget_runs(directory, to, scalings, runs)
             verdict = directory.pipeline.spec.verdict
         else:
             chosen = select_gait(run=run, walk=walk)

@@ -94,11 +94,20 @@ class RunBest:
     played: tuple[tuple[str, float | None, Evaluation], ...]  # (scaling, Hz or None, evaluation)
 
 
-def retarget_runs(directory: RunDirectory, body: str, scalings: Sequence[str]) -> list[RunBest]:
-    """Every finished run's best gait of ``directory`` played on ``body`` under each of ``scalings``
-    (the runs' bests played together, one batch per scaling); raises :class:`RetargetError`."""
+def retarget_runs(
+    directory: RunDirectory, body: str, scalings: Sequence[str], runs: int | None = None
+) -> list[RunBest]:
+    """Every finished run's best gait of ``directory`` (of its first ``runs`` alone, if given: an arm
+    that has grown since) played on ``body`` under each of ``scalings`` (the runs' bests played
+    together, one batch per scaling); raises :class:`RetargetError`."""
+    planned = directory.config.runs
+    if runs is not None and not 1 <= runs <= planned:
+        raise RetargetError(
+            f"{directory.path}: --runs {runs} asks for its first {runs} runs, but it plans {planned}; "
+            f"give --runs from 1 to {planned}"
+        )
     try:
-        bests = finished_bests(directory)
+        bests = finished_bests(directory, None if runs is None else range(runs))
     except RunDirectoryError as error:
         raise RetargetError(str(error)) from None
     if not bests:

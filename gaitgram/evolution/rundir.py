@@ -461,11 +461,14 @@ def best_of_runs(directory: RunDirectory) -> tuple[int, int, Individual]:
     return run, generation, best
 
 
-def finished_bests(directory: RunDirectory) -> list[tuple[int, int, Individual]]:
-    """The best individual of each run that has finished: (run, generation, individual), by run;
-    a run still under way is left out, so its best is not mistaken for a result."""
+def finished_bests(
+    directory: RunDirectory, runs: Collection[int] | None = None
+) -> list[tuple[int, int, Individual]]:
+    """The best individual of each run that has finished (of ``runs`` alone, if given): (run,
+    generation, individual), by run; a run still under way is left out, so its best is not mistaken
+    for a result."""
     last = directory.config.generations
-    return [(run, s.generation, s.best) for run, s in _last_states(directory) if s.generation == last]
+    return [(run, s.generation, s.best) for run, s in _last_states(directory, runs) if s.generation == last]
 
 
 def _last_states(

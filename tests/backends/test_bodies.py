@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import shutil
 from dataclasses import replace
 from pathlib import Path
 
@@ -363,3 +364,31 @@ def test_every_body_builds_from_the_one_xml() -> None:
         spec = master_spec(name)
         assert [b.name for b in spec.bodies] == [b.name for b in reference.bodies]
         assert isinstance(spec.compile(), mujoco.MjModel)
+
+
+def test_retarget_each_run_plays_the_first_runs_of_an_arm_grown_since(
+    horse_run: Path, tmp_path: Path
+) -> None:
+    """``--each-run --runs N``: the figures an arm gave at N runs, after it grew."""
+    grown = Path(shutil.copytree(horse_run, tmp_path / "grown"))
+    more = runner.invoke(app, ["evolve", "--resume", str(grown), "--runs", "2", "-q"])
+    assert more.exit_code == 0, more.output
+
+    def played(run_dir: Path, *flags: str) -> dict:
+        result = runner.invoke(
+            app, ["retarget", "--run", str(run_dir), "--to", "pony", "--each-run", "--json", *flags]
+        )
+        assert result.exit_code in (0, 1), result.output
+        return json.loads(result.output)
+
+    then, now, first = played(horse_run), played(grown), played(grown, "--runs", "1")
+    assert [r["run"] for r in now["runs"]] == [0, 1]
+    assert {**first, "run": None} == {**then, "run": None}  # run 0 alone, as the arm gave it with one run
+    refused = runner.invoke(
+        app, ["retarget", "--run", str(grown), "--to", "pony", "--each-run", "--runs", "3"]
+    )
+    assert refused.exit_code == 2
+    assert "asks for its first 3 runs, but it plans 2" in refused.output
+    alone = runner.invoke(app, ["retarget", "--run", str(grown), "--to", "pony", "--runs", "1"])
+    assert alone.exit_code == 2
+    assert "add --each-run" in alone.output
