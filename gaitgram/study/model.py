@@ -599,6 +599,8 @@ class StudyReport:
                     "walk_held_rate": s.walk_held_rate,
                     # what scored it, where a setting changes what the fitness measures (bump floors)
                     **({"scoring": {k: json.loads(v) for k, v in a.scoring}} if a.scoring else {}),
+                    # read at its first runs alone (report --runs): it holds more
+                    **({"first_runs": a.window} if a.window is not None else {}),
                 }
                 for s, a in zip(self.summaries, self.arms, strict=True)
             ],
