@@ -60,14 +60,17 @@ Genome = tuple[int, ...]
 class PipelineError(ValueError):
     """A grammar, config or backend that cannot make a trustworthy pipeline; says why and how to fix."""
 
-    def __init__(self, message: str, *, setting: str | None = None) -> None:
+    def __init__(self, message: str, *, key: str | None = None) -> None:
         super().__init__(message)
-        #: The ``[backend_settings]`` key at fault, if one is (dotted for a nested table's).
-        self.setting = setting
+        #: The run.toml key at fault, if one is, dotted from the top (``backend_settings.weights``),
+        #: for a file's line and column.
+        self.key = key
 
 
-def _settings_error(error: SettingsError) -> PipelineError:
-    return PipelineError(f"[backend_settings] {error.key}: {error.message}", setting=error.key)
+def settings_error(table: str, error: SettingsError) -> PipelineError:
+    """A backend's or strategy's settings error, as the ``[table]`` key at fault."""
+    top = error.key.split("[", 1)[0]  # objectives[0] is written as objectives = [...]
+    return PipelineError(f"[{table}] {error.key}: {error.message}", key=f"{table}.{top}")
 
 
 @dataclass(frozen=True)
@@ -108,7 +111,7 @@ class Pipeline:
         try:
             settings = spec.checked_settings(config.backend_settings)
         except SettingsError as error:
-            raise _settings_error(error) from None
+            raise settings_error("backend_settings", error) from None
         config = replace(config, backend=name, backend_settings=settings)
         _check_weights(config, spec)
         _check_joints(grammar, spec)
@@ -258,7 +261,7 @@ class Pipeline:
         try:
             return self.spec.load({**self.config.backend_settings, **extra})
         except SettingsError as error:
-            raise _settings_error(error) from None
+            raise settings_error("backend_settings", error) from None
         except (ValueError, TypeError, ImportError, LookupError) as error:
             raise PipelineError(f"backend {self.backend!r}: {error}") from None
 

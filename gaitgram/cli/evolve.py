@@ -153,10 +153,9 @@ def _new_run(
     try:
         pipeline = run_pipeline(load_usable(grammar, parse_defines(defines)), load_config(config, given))
     except PipelineError as error:
-        if error.setting is None or config is None:
+        if error.key is None or config is None:
             raise
-        where = key_location(config, "backend_settings", error.setting)
-        raise PipelineError(f"{where}: {error}", setting=error.setting) from None
+        raise PipelineError(f"{key_location(config, '', error.key)}: {error}", key=error.key) from None
     if out is None:
         out = Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}"
         RunDirectory.check_new(out)

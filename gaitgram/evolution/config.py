@@ -24,6 +24,11 @@ from gaitgram.ge.mapper import CodonMode
 class ConfigError(ValueError):
     """A config file or flag that cannot be used; the message says where and how to fix it."""
 
+    def __init__(self, message: str, *, keys: tuple[str, ...] = ()) -> None:
+        super().__init__(message)
+        #: The keys at fault, most to blame first (for a line and column once a file is known).
+        self.keys = keys
+
 
 @dataclass(frozen=True)
 class WeightStage:
@@ -90,32 +95,40 @@ class RunConfig:
             if value is None:
                 continue
             if isinstance(value, float) and not math.isfinite(value):
-                raise ConfigError(f"{key}: must be a finite number, not {value}")
+                raise ConfigError(f"{key}: must be a finite number, not {value}", keys=(key,))
             if not low <= value <= high:
-                raise ConfigError(f"{key}: must be in [{_show(low)}, {_show(high)}], not {value}")
+                raise ConfigError(
+                    f"{key}: must be in [{_show(low)}, {_show(high)}], not {value}", keys=(key,)
+                )
         if self.elite >= self.population:
             raise ConfigError(
                 f"elite: {self.elite} elites leave no room for offspring in a population of "
-                f"{self.population}; make elite smaller than population"
+                f"{self.population}; make elite smaller than population",
+                keys=("elite", "population"),
             )
         if self.tournament > self.population:
             raise ConfigError(
                 f"tournament: a tournament of {self.tournament} is larger than the population of "
-                f"{self.population}; make it at most the population"
+                f"{self.population}; make it at most the population",
+                keys=("tournament", "population"),
             )
         starts = [stage.start for stage in self.weight_schedule]
         if len(set(starts)) != len(starts):
-            raise ConfigError("weight_schedule: two stages start at the same generation")
+            raise ConfigError(
+                "weight_schedule: two stages start at the same generation", keys=("weight_schedule",)
+            )
         for stage in self.weight_schedule:
             if not 0 <= stage.start <= self.generations:
                 raise ConfigError(
                     f"weight_schedule: a stage starts at generation {stage.start}, outside the run's "
-                    f"generations 0..{self.generations}"
+                    f"generations 0..{self.generations}",
+                    keys=("weight_schedule", "generations"),
                 )
         if self.weight_schedule and min(starts) != 0:
             raise ConfigError(
                 f"weight_schedule: the first stage starts at generation {min(starts)}; start one at 0 "
-                "so that every generation has stated weights"
+                "so that every generation has stated weights",
+                keys=("weight_schedule",),
             )
 
     @property
@@ -208,28 +221,32 @@ def _toml_value(value: Any) -> str:
 _FIELDS = {f.name: f for f in fields(RunConfig)}
 
 
-def key_location(path: Path, table: str, key: str) -> str:
+def key_location(path: Path, table: str, key: str, item: int | None = None) -> str:
     """``path:line:column`` where the TOML file ``path`` writes ``key`` (dotted: ``weights.velocty``)
     of ``[table]`` (``""``: the top level), as a key of that table, a sub-table's header
     (``[table.weights]``) or the header of a table ``key`` names; just ``path`` where it is written
-    otherwise (an inline table) or not at all."""
+    otherwise (an inline table) or not at all. ``item`` (from 0) picks one table of an array of
+    tables: ``key_location(path, "arm.settings", "elite", item=2)`` is in the third ``[[arm]]``."""
     parts = key.split(".")
     wanted = {(".".join(filter(None, [table, *parts[:i]])), parts[i]) for i in range(len(parts))}
     named = ".".join(filter(None, [table, key]))
+    array = table.split(".", 1)[0]
     try:
         lines = path.read_text(encoding="utf-8").splitlines()
     except (OSError, UnicodeDecodeError):
         return str(path)
     header = ""
+    seen = 0  # the [[array]] headers so far
     for number, line in enumerate(lines, 1):
         stripped = line.split("#", 1)[0].strip()
         found = False
         if stripped.startswith("["):
             header = stripped.strip("[] \t").replace(" ", "")
+            seen += stripped.startswith("[[") and header == array
             found = header == named
         elif "=" in stripped:
             found = (header, stripped.split("=", 1)[0].strip().strip("\"'")) in wanted
-        if found:
+        if found and (item is None or seen == item + 1):
             return f"{path}:{number}:{len(line) - len(line.lstrip()) + 1}"
     return str(path)
 
@@ -310,7 +327,9 @@ def config_from_mapping(
     try:
         return RunConfig(**converted)
     except ConfigError as error:
-        raise ConfigError(f"{where}: {error}") from None
+        written = [key for key in error.keys if key in values]
+        here = locate(written[0]) if written and locate is not None else where
+        raise ConfigError(f"{here}: {error}", keys=error.keys) from None
 
 
 def _suggest(key: str, known: Mapping[str, Any]) -> str:

@@ -21,7 +21,7 @@ from typing import Any
 from gaitgram.analysis import CheckResult
 from gaitgram.backends.api import SettingsError
 from gaitgram.evolution.config import RunConfig
-from gaitgram.pipeline import Pipeline, PipelineError
+from gaitgram.pipeline import Pipeline, PipelineError, settings_error
 from gaitgram.plugins import PluginLoadError, PluginNotFound, Registry, package_version
 from gaitgram.strategies.api import Strategy, StrategyError
 
@@ -119,7 +119,7 @@ def run_pipeline(checked: CheckResult, config: RunConfig) -> Pipeline:
     try:
         settings = dict(strategy.check(pipeline))
     except SettingsError as error:
-        raise PipelineError(f"[strategy_settings] {error.key}: {error.message}") from None
+        raise settings_error("strategy_settings", error) from None
     except StrategyError as error:
         raise PipelineError(str(error)) from None
     return replace(pipeline, config=replace(pipeline.config, strategy_settings=settings))

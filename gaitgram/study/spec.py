@@ -27,8 +27,9 @@ flags (``--runs``, ``--generations``, ``--population``).
 Everything is checked here, before anything is written: every key as a
 run.toml's is, every arm's grammar, backend settings and strategy settings by
 building its pipeline, and the arms' budgets against each other (a study whose
-arms cannot be compared is no study). An error names the study file and the
-arm, or the flag when only the flag makes it wrong.
+arms cannot be compared is no study). An error names the line and column of
+the key at fault (in the study file, or the run.toml a ``config`` names) and
+the arm, or the flag when only the flag makes it wrong.
 """
 
 from __future__ import annotations
@@ -36,13 +37,13 @@ from __future__ import annotations
 import difflib
 import os
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from gaitgram.diagnostics import TextEdit
-from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, read_toml
+from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, key_location, read_toml
 from gaitgram.evolution.rundir import build_pipeline
 from gaitgram.evolution.transfer import TransferError, start_genomes
 from gaitgram.language import parse
@@ -110,31 +111,77 @@ def load_study(path: Path, scale: ScaleDown = ScaleDown()) -> Study:
     except ConfigError as error:
         raise StudyError(str(error)) from None
     where = str(path)
-    _known(data, STUDY_KEYS, where)
+
+    def at(key: str) -> str:
+        return key_location(path, "", key)
+
+    _known(data, STUDY_KEYS, at)
     base = path.parent
     title = data.get("title", path.stem)
     if not isinstance(title, str):
-        raise StudyError(f"{where}: title: must be text")
-    runs = _runs(data.get("runs", 1), f"{where}: runs")
+        raise StudyError(f"{at('title')}: title: must be text")
+    runs = _runs(data.get("runs", 1), f"{at('runs')}: runs")
     if scale.runs is not None:
         runs = _runs(scale.runs, "--runs")
     seed = data.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise StudyError(f"{where}: seed: must be a whole number >= 0, not {seed!r}")
-    shared = {
-        **_config_file(data.get("config"), base, where),
-        **_table(data, "settings", where, "[settings]"),
-    }
+        raise StudyError(f"{at('seed')}: seed: must be a whole number >= 0, not {seed!r}")
+    shared = [
+        _Source(_table(data, "settings", at, "[settings]"), lambda key: key_location(path, "settings", key)),
+        _config_file(data.get("config"), base, at),
+    ]
     arms_data = data.get("arm")
     if not isinstance(arms_data, list) or not arms_data:
-        raise StudyError(f"{where}: a study needs at least one [[arm]] with a name and a grammar")
+        raise StudyError(f"{at('arm')}: a study needs at least one [[arm]] with a name and a grammar")
     names = [a.get("name") if isinstance(a, Mapping) else None for a in arms_data]
-    for name in names:
-        if isinstance(name, str) and names.count(name) > 1:
-            raise StudyError(f"{where}: two arms are named {name!r}; arm names must differ")
-    arms = [_arm(arm, index, base, where, shared, seed, runs, scale) for index, arm in enumerate(arms_data)]
+    for index, name in enumerate(names):
+        if isinstance(name, str) and name in names[:index]:
+            raise StudyError(
+                f"{key_location(path, 'arm', 'name', item=index)}: two arms are named {name!r}; "
+                "arm names must differ"
+            )
+    arms = [_arm(arm, index, path, shared, seed, runs, scale) for index, arm in enumerate(arms_data)]
     _check_budgets(arms, where, scale)
     return Study(path, title, runs, tuple(arms))
+
+
+@dataclass(frozen=True)
+class _Source:
+    """Run.toml keys from one place (a study's table, or a run.toml it names), and where each is."""
+
+    values: Mapping[str, Any]
+    locate: Callable[[str], str]
+
+
+#: Tables of settings a layer adds to rather than replaces, as ``--set`` flags add to a run.toml's.
+NESTED = ("backend_settings", "strategy_settings")
+
+
+def _merged(*layers: Mapping[str, Any]) -> dict[str, Any]:
+    """Each layer over the last; the settings tables key by key, so that an arm's
+    ``backend_settings = { body = "pony" }`` keeps the study's ``[settings.backend_settings]``."""
+    merged: dict[str, Any] = {}
+    for layer in layers:
+        for key, value in layer.items():
+            below = merged.get(key)
+            both = key in NESTED and isinstance(below, Mapping) and isinstance(value, Mapping)
+            merged[key] = {**below, **value} if both else value
+    return merged
+
+
+def _located(sources: list[_Source], label: str, path: Path) -> Callable[[str], str]:
+    """Where a (dotted) key of the merged configuration was written: the first source holding it
+    (else the study file ``path``)."""
+
+    def locate(key: str) -> str:
+        first, *rest = key.split(".")
+        for source in sources:
+            value = source.values.get(first)
+            if (isinstance(value, Mapping) and rest[0] in value) if rest else first in source.values:
+                return f"{source.locate(key)}: {label}"
+        return f"{path}: {label}"
+
+    return locate
 
 
 def _runs(value: Any, where: str) -> int:
@@ -146,60 +193,72 @@ def _runs(value: Any, where: str) -> int:
 def _arm(
     data: Any,
     index: int,
-    base: Path,
-    where: str,
-    shared: Mapping[str, Any],
+    path: Path,
+    shared: list[_Source],
     seed: int,
     runs: int,
     scale: ScaleDown,
 ) -> Arm:
+    where = str(path)
+    base = path.parent
     if not isinstance(data, Mapping):
-        raise StudyError(f"{where}: arm {index + 1} must be a table [[arm]]")
+        raise StudyError(f"{key_location(path, '', 'arm')}: arm {index + 1} must be a table [[arm]]")
     name = data.get("name")
-    label = f"{where}: arm {name!r}" if isinstance(name, str) else f"{where}: arm {index + 1}"
-    _known(data, ARM_KEYS, label)
+    label = f"arm {name!r}" if isinstance(name, str) else f"arm {index + 1}"
+
+    def at(key: str) -> str:
+        """``file:line:column: arm 'name'``, the line where the arm writes ``key``."""
+        return f"{key_location(path, 'arm', key, item=index)}: {label}"
+
+    _known(data, ARM_KEYS, at)
     if not is_arm_name(name):
         raise StudyError(
-            f"{label}: name: must be 1-64 letters, digits, '.', '_' or '-' (it names a directory), "
+            f"{at('name')}: name: must be 1-64 letters, digits, '.', '_' or '-' (it names a directory), "
             f"not {name!r}"
         )
     assert isinstance(name, str)
     grammar = data.get("grammar")
     if not isinstance(grammar, str) or not grammar:
-        raise StudyError(f"{label}: grammar: give the grammar file, relative to the study file")
+        raise StudyError(f"{at('grammar')}: grammar: give the grammar file, relative to the study file")
     strategy = data.get("strategy")
     if strategy is not None and strategy not in strategy_names():
         close = difflib.get_close_matches(str(strategy), strategy_names(), n=1)
         hint = f"did you mean {close[0]}? " if close else ""
         raise StudyError(
-            f"{label}: strategy: {strategy!r} is not an installed strategy; {hint}"
+            f"{at('strategy')}: strategy: {strategy!r} is not an installed strategy; {hint}"
             f"installed: {', '.join(strategy_names())}"
         )
     defines = data.get("defines", {})
     if not isinstance(defines, Mapping) or not all(
         isinstance(v, int) and not isinstance(v, bool) for v in defines.values()
     ):
-        raise StudyError(f"{label}: defines: must be a table of NAME = whole number")
-    own = {
-        **_config_file(data.get("config"), base, label),
-        **_table(data, "settings", label, "[arm.settings]"),
-    }
+        raise StudyError(f"{at('defines')}: defines: must be a table of NAME = whole number")
+    sources = [  # highest precedence first
+        _Source(
+            _table(data, "settings", at, "[arm.settings]"),
+            lambda key: key_location(path, "arm.settings", key, item=index),
+        ),
+        _config_file(data.get("config"), base, at),
+        *shared,
+    ]
+    own = _merged(sources[1].values, sources[0].values)
     if isinstance(own.get("start_from"), str):  # relative to the study file, as the grammar is
         own["start_from"] = os.path.abspath(base / own["start_from"])
     if strategy is not None and own.get("strategy", strategy) != strategy:
         raise StudyError(
-            f"{label}: strategy is {strategy!r}, but the arm's settings say {own['strategy']!r}; give it once"
+            f"{at('strategy')}: strategy is {strategy!r}, but the arm's settings say {own['strategy']!r}; "
+            "give it once"
         )
-    values: dict[str, Any] = {"seed": seed, **shared, **own}
+    values = _merged({"seed": seed}, sources[3].values, sources[2].values, own)
     if strategy is not None:
         values["strategy"] = strategy
     values["runs"] = runs
-    path = base / grammar
+    grammar_path = base / grammar
     try:
-        source = read_source(path)
+        source = read_source(grammar_path)
     except SourceError as error:
-        raise StudyError(f"{label}: grammar: {error}") from None
-    config, pipeline = _build(values, source, defines, label)
+        raise StudyError(f"{at('grammar')}: grammar: {error}") from None
+    config, pipeline = _build(values, source, defines, f"{where}: {label}", _located(sources, label, path))
     if scale.generations is not None or scale.population is not None:
         # Valid as the file says; now as the flags scale it, which are to blame for what fails.
         blame = f"{scale.flags} on arm {name!r} of {where}"
@@ -213,19 +272,25 @@ def _arm(
         try:
             start_genomes(pipeline, run)
         except TransferError as error:
-            raise StudyError(f"{label}: {error}") from None
-    return Arm(name, path, config.strategy, config, dict(defines), pipeline)
+            raise StudyError(f"{where}: {label}: {error}") from None
+    return Arm(name, grammar_path, config.strategy, config, dict(defines), pipeline)
 
 
 def _build(
-    values: Mapping[str, Any], source: SourceText, defines: Mapping[str, int], label: str
+    values: Mapping[str, Any],
+    source: SourceText,
+    defines: Mapping[str, int],
+    label: str,
+    locate: Callable[[str], str] | None = None,
 ) -> tuple[RunConfig, Pipeline]:
     try:
-        config = config_from_mapping(values, label)
+        config = config_from_mapping(values, label, locate)
         return config, build_pipeline(source, defines, config)
     except ConfigError as error:
         raise StudyError(str(error)) from None
     except PipelineError as error:
+        if error.key is not None and locate is not None:
+            raise StudyError(f"{locate(error.key)}: {error}") from None
         raise StudyError(f"{label}: {error}") from None
 
 
@@ -325,40 +390,42 @@ def _scale_population(values: dict[str, Any], population: int) -> None:
     values["population"] = population
 
 
-def _config_file(value: Any, base: Path, where: str) -> dict[str, Any]:
+def _config_file(value: Any, base: Path, at: Callable[[str], str]) -> _Source:
     if value is None:
-        return {}
+        return _Source({}, lambda key: str(base))
     if not isinstance(value, str):
-        raise StudyError(f"{where}: config: give a run.toml file name")
+        raise StudyError(f"{at('config')}: config: give a run.toml file name")
+    path = base / value
     try:
-        data = read_toml(base / value)
+        data = read_toml(path)
     except ConfigError as error:
-        raise StudyError(f"{where}: config: {error}") from None
-    _no_runs(data, f"{where}: config {base / value}")
-    return data
+        raise StudyError(f"{at('config')}: config: {error}") from None
+    if "runs" in data:
+        _no_runs(f"{key_location(path, '', 'runs')} (the config of {at('config')})")
+    return _Source(data, lambda key: key_location(path, "", key))
 
 
-def _table(data: Mapping[str, Any], key: str, where: str, header: str) -> dict[str, Any]:
+def _table(data: Mapping[str, Any], key: str, at: Callable[[str], str], header: str) -> dict[str, Any]:
     value = data.get(key, {})
     if not isinstance(value, Mapping):
-        raise StudyError(f"{where}: {key}: must be a table of run.toml keys")
-    _no_runs(value, f"{where}: {header}")
+        raise StudyError(f"{at(key)}: {key}: must be a table of run.toml keys")
+    if "runs" in value:
+        _no_runs(f"{at(key + '.runs')}: {header}")
     return dict(value)
 
 
-def _no_runs(table: Mapping[str, Any], where: str) -> None:
+def _no_runs(where: str) -> None:
     """``runs`` under a table would be overridden by the study's: refuse it rather than ignore it.
     (TOML puts every key after a ``[table]`` header into that table, a common slip.)"""
-    if "runs" in table:
-        raise StudyError(
-            f"{where}: runs: a study's runs per arm are its top-level runs (or --runs), the same for "
-            "every arm; move `runs = N` above the study's first [table], or remove it here"
-        )
+    raise StudyError(
+        f"{where}: runs: a study's runs per arm are its top-level runs (or --runs), the same for "
+        "every arm; move `runs = N` above the study's first [table], or remove it here"
+    )
 
 
-def _known(data: Mapping[str, Any], keys: tuple[str, ...], where: str) -> None:
+def _known(data: Mapping[str, Any], keys: tuple[str, ...], at: Callable[[str], str]) -> None:
     for key in data:
         if key not in keys:
             close = difflib.get_close_matches(key, keys, n=1)
             hint = f"; did you mean {close[0]}?" if close else f"; known keys: {', '.join(keys)}"
-            raise StudyError(f"{where}: unknown key {key!r}{hint}")
+            raise StudyError(f"{at(key)}: unknown key {key!r}{hint}")

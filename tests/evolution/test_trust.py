@@ -195,7 +195,7 @@ def test_a_bad_config_is_refused_before_a_run_directory_exists(
         ("[backend_settings]\nfroude = 0.06\n  horizon_cycles = 100\n", ":7:3", "at most 120 s are allowed"),
         ("[backend_settings]\nfroude = inf\n", ":6:1", "froude: inf is not a finite number"),
         ("[backend_settings.weights]\nvelocty = 1.0\n", ":6:1", "weights.velocty: no fitness component"),
-        ("backend_settings = { weights = { velocty = 1 } }\n", "", "weights.velocty: no fitness component"),
+        ("backend_settings = { weights = { velocty = 1 } }\n", ":5:1", "weights.velocty: no fitness"),
         ("[backend_settings]\nbump_floors = [0, 30]\n", ":6:1", "bump_floors: seed 30 is one of the floors"),
         ("[[weight_schedule]]\nstart = 0\nweights = { strides = 2.0 }\n", None, "did you mean stride?"),
     ],

@@ -1,7 +1,7 @@
 """Study files are checked whole before anything runs: every arm's pipeline is built (grammar,
 configuration, backend and strategy settings), the arms are comparable, and an error names the
-file, the arm and the key, or the flag when only the flag makes it wrong. Nothing is made when a
-study is refused."""
+file's line and column, the arm and the key, or the flag when only the flag makes it wrong.
+Nothing is made when a study is refused."""
 
 from __future__ import annotations
 
@@ -41,17 +41,17 @@ BASE = STUDY.format(generations=2)
 @pytest.mark.parametrize("name", ["abc\\n", "abc\\r", "a/b", "..", ".hidden", ""])
 def test_an_arm_name_that_cannot_name_a_directory_is_refused(tmp_path: Path, name: str) -> None:
     error = refused(tmp_path, BASE.replace('name = "plain"', f'name = "{name}"'))
-    assert "s.toml: arm" in error
+    assert "s.toml:17:1: arm" in error
     assert "name: must be 1-64 letters, digits" in error
 
 
 @pytest.mark.parametrize(
     ("text", "where"),
     [
-        (BASE.replace("elite = 1\n", "elite = 1\nruns = 5\n"), "s.toml: [settings]: runs"),
+        (BASE.replace("elite = 1\n", "elite = 1\nruns = 5\n"), "s.toml:9:1: [settings]: runs"),
         (
             BASE.replace("mutation = 0.2", "mutation = 0.2\nruns = 5"),
-            "s.toml: arm 'mutant': [arm.settings]: runs",
+            "s.toml:25:1: arm 'mutant': [arm.settings]: runs",
         ),
     ],
 )
@@ -69,8 +69,8 @@ def test_runs_in_an_arms_config_file_is_refused(tmp_path: Path) -> None:
             'grammar = "g.gg"\n[arm.settings]', 'grammar = "g.gg"\nconfig = "arm.toml"\n[arm.settings]'
         ),
     )
-    assert "arm 'mutant': config" in error
-    assert "arm.toml: runs" in error
+    assert "arm.toml:1:1 (the config of " in error
+    assert "s.toml:23:1: arm 'mutant'): runs" in error
 
 
 def test_arms_at_different_budgets_are_refused_before_they_run(tmp_path: Path) -> None:
@@ -99,7 +99,7 @@ def test_a_misspelt_objective_or_descriptor_is_refused_before_anything_runs(
     )
     error = refused(tmp_path, text)
     assert (
-        f"s.toml: arm 'mutant': [strategy_settings] {key}: backend 'curve-match' reports no component"
+        f"s.toml:26:1: arm 'mutant': [strategy_settings] {key}: backend 'curve-match' reports no component"
         in error
     )
     assert f"did you mean {hint}?" in error
@@ -165,3 +165,78 @@ def test_an_error_the_flags_cause_names_the_flag(tmp_path: Path) -> None:
     assert "weight stages" in error
     assert "give --generations 4 or more" in error
     assert "--runs" in refused(tmp_path, WEIGHTED, "--runs", "20000")
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "where", "what"),
+    [
+        ("seed = 7", "seed = -7", "s.toml:3:1: seed", "must be a whole number >= 0"),
+        (
+            'title = "tiny"',
+            'title = "tiny"\ntitel = "x"',
+            "s.toml:2:1: unknown key 'titel'",
+            "did you mean title",
+        ),
+        ("population = 12", "population = 1", "s.toml:7:1: arm 'plain': population", "[2, 1_000_000]"),
+        ("population = 12", "population = 2", "s.toml:7:1: arm 'plain': tournament", "larger than"),
+        ('name = "mutant"', 'name = "plain"', "s.toml:21:1: two arms are named 'plain'", "must differ"),
+        (
+            'grammar = "g.gg"\n[arm',
+            'gramar = "g.gg"\n[arm',
+            "s.toml:22:1: arm 'mutant': unknown key",
+            "grammar",
+        ),
+        ('grammar = "g.gg"\n[arm', 'grammar = "h.gg"\n[arm', "s.toml:22:1: arm 'mutant': grammar", "h.gg"),
+        ("mutation = 0.2", "mutation = 2.0", "s.toml:24:1: arm 'mutant': mutation", "[0, 1]"),
+        ("mutation = 0.2", "mutation = 0.2\nelite = 12", "s.toml:25:1: arm 'mutant': elite", "no room"),
+        ("mutation = 0.2", "mutation = 0.2\nstrategy = 3", "s.toml:25:1: arm 'mutant': strategy", "not 3"),
+        (
+            "1.5)",
+            "1.5",
+            "s.toml:13:1: arm 'plain': [backend_settings] targets.hip_hind",
+            "unexpected end of text",
+        ),
+    ],
+)
+def test_an_error_names_the_line_and_column_of_the_key_at_fault(
+    tmp_path: Path, old: str, new: str, where: str, what: str
+) -> None:
+    """In the study file's ``[settings]``, an ``[[arm]]`` (the right one of several), its
+    ``[arm.settings]``, or a cross-field check blamed on the key the file wrote."""
+    assert BASE.count(old) == 1
+    error = refused(tmp_path, BASE.replace(old, new))
+    assert where in error
+    assert what in error
+
+
+def test_an_error_in_an_arms_config_file_names_that_files_line(tmp_path: Path) -> None:
+    (tmp_path / "arm.toml").write_text("# the arm's own settings\n\ncrossover = 1.5\n")
+    text = BASE.replace(
+        'grammar = "g.gg"\n[arm.settings]', 'grammar = "g.gg"\nconfig = "arm.toml"\n[arm.settings]'
+    )
+    error = refused(tmp_path, text)
+    assert "arm.toml:3:1: arm 'mutant': crossover: must be in [0, 1], not 1.5" in error
+
+
+def test_an_arms_settings_tables_add_to_the_studys(tmp_path: Path) -> None:
+    """``backend_settings`` of an arm add keys to the study's ``[settings.backend_settings]``, as
+    ``--set`` adds to a run.toml's: a pony arm keeps the study's weights rather than losing them."""
+    from gaitgram.study.spec import load_study
+
+    grammar = Path(__file__).resolve().parents[2] / "grammars" / "hybrid.gg"
+    path = tmp_path / "s.toml"
+    path.write_text(
+        "[settings.backend_settings]\n"
+        "weights = { velocity = 1.0, duty_factor = 1.0, stride = 1.0, frequency = 0.0, energy = 1.0 }\n"
+        "[[arm]]\n"
+        'name = "horse"\n'
+        f"grammar = {str(grammar)!r}\n"
+        "[[arm]]\n"
+        'name = "pony"\n'
+        f"grammar = {str(grammar)!r}\n"
+        'settings = { backend_settings = { body = "pony" } }\n'
+    )
+    horse, pony = load_study(path).arms
+    assert pony.config.backend_settings["body"] == "pony"
+    assert pony.config.backend_settings["weights"] == horse.config.backend_settings["weights"]
+    assert horse.config.backend_settings["weights"]["energy"] == 1.0
