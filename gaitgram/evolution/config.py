@@ -223,14 +223,13 @@ _FIELDS = {f.name: f for f in fields(RunConfig)}
 
 def key_location(path: Path, table: str, key: str, item: int | None = None) -> str:
     """``path:line:column`` where the TOML file ``path`` writes ``key`` (dotted: ``weights.velocty``)
-    of ``[table]`` (``""``: the top level), as a key of that table, a sub-table's header
-    (``[table.weights]``) or the header of a table ``key`` names; just ``path`` where it is written
-    otherwise (an inline table) or not at all. ``item`` (from 0) picks one table of an array of
-    tables: ``key_location(path, "arm.settings", "elite", item=2)`` is in the third ``[[arm]]``."""
-    parts = key.split(".")
-    wanted = {(".".join(filter(None, [table, *parts[:i]])), parts[i]) for i in range(len(parts))}
-    named = ".".join(filter(None, [table, key]))
-    array = table.split(".", 1)[0]
+    of ``[table]`` (``""``: the top level): the first line that writes it, a table or key beneath it
+    (``[table.weights]``, ``weights.velocty = 1``) or an inline table holding it (``weights = {
+    velocty = 1 }``); just ``path`` where it is not written. ``item`` (from 0) picks one table of
+    an array of tables: ``key_location(path, "arm.settings", "elite", item=2)`` is in the third
+    ``[[arm]]``."""
+    named = _dotted(".".join(filter(None, [table, key])))
+    array = named.split(".", 1)[0]
     try:
         lines = path.read_text(encoding="utf-8").splitlines()
     except (OSError, UnicodeDecodeError):
@@ -239,16 +238,24 @@ def key_location(path: Path, table: str, key: str, item: int | None = None) -> s
     seen = 0  # the [[array]] headers so far
     for number, line in enumerate(lines, 1):
         stripped = line.split("#", 1)[0].strip()
-        found = False
         if stripped.startswith("["):
-            header = stripped.strip("[] \t").replace(" ", "")
+            header = _dotted(stripped.strip("[] \t"))
             seen += stripped.startswith("[[") and header == array
-            found = header == named
+            written, holds = header, False  # a header holds only the lines below it
         elif "=" in stripped:
-            found = (header, stripped.split("=", 1)[0].strip().strip("\"'")) in wanted
+            written = ".".join(filter(None, [header, _dotted(stripped.split("=", 1)[0])]))
+            holds = named.startswith(written + ".")  # an inline table or array
+        else:
+            continue
+        found = written == named or written.startswith(named + ".") or holds
         if found and (item is None or seen == item + 1):
             return f"{path}:{number}:{len(line) - len(line.lstrip()) + 1}"
     return str(path)
+
+
+def _dotted(key: str) -> str:
+    """A TOML key as written (``a . "b"``) as plain dotted text (``a.b``)."""
+    return ".".join(part.strip().strip("\"'") for part in key.split("."))
 
 
 def read_toml(path: Path) -> dict[str, Any]:

@@ -207,8 +207,12 @@ def _arm(
     label = f"arm {name!r}" if isinstance(name, str) else f"arm {index + 1}"
 
     def at(key: str) -> str:
-        """``file:line:column: arm 'name'``, the line where the arm writes ``key``."""
-        return f"{key_location(path, 'arm', key, item=index)}: {label}"
+        """``file:line:column: arm 'name'``, the line where the arm writes ``key``, or else its
+        ``[[arm]]`` (a key it lacks)."""
+        where = key_location(path, "arm", key, item=index)
+        if where == str(path):
+            where = key_location(path, "", "arm", item=index)
+        return f"{where}: {label}"
 
     _known(data, ARM_KEYS, at)
     if not is_arm_name(name):
