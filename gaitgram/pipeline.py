@@ -107,7 +107,10 @@ class Pipeline:
         if checked.errors:
             raise PipelineError(_first_error(checked))
         name = config.backend or grammar.backend or DEFAULT_BACKEND
-        spec = _spec(name)
+        try:
+            spec = _spec(name)
+        except PipelineError as error:
+            raise PipelineError(str(error), key="backend") from None
         try:
             settings = spec.checked_settings(config.backend_settings)
         except SettingsError as error:
@@ -128,7 +131,8 @@ class Pipeline:
             raise PipelineError(
                 f"codon_size: {config.codon_size} is smaller than the {widest} choices of the grammar's "
                 f"widest rule, so some of its choices could never be picked; make codon_size at least "
-                f"{widest}"
+                f"{widest}",
+                key="codon_size",
             )
         joints = (
             spec.catalogue.names if spec.catalogue is not None else tuple(j.joint for j in grammar.joints)
@@ -311,7 +315,8 @@ def _check_weights(config: RunConfig, spec: BackendSpec) -> None:
     if spec.weight_names is None:
         raise PipelineError(
             f"weight_schedule: backend {spec.name!r} takes no fitness weights, so the schedule would "
-            "change nothing; remove it"
+            "change nothing; remove it",
+            key="weight_schedule",
         )
     known = spec.weight_names(config.backend_settings)
     for i, stage in enumerate(config.weight_schedule):
@@ -321,7 +326,8 @@ def _check_weights(config: RunConfig, spec: BackendSpec) -> None:
                 hint = f"did you mean {close[0]}?" if close else f"known: {', '.join(sorted(known))}"
                 raise PipelineError(
                     f"weight_schedule[{i}].weights.{name}: backend {spec.name!r} has no fitness component "
-                    f"{name!r}; {hint}"
+                    f"{name!r}; {hint}",
+                    key="weight_schedule",
                 )
 
 
@@ -367,15 +373,18 @@ def _check_depths(facts: GrammarFacts, config: RunConfig) -> None:
     if config.init_max_depth < shortest:
         raise PipelineError(
             f"init_max_depth: {config.init_max_depth} is below the {shortest} levels of the grammar's "
-            f"shortest derivation, so no initial tree fits; make it at least {shortest}"
+            f"shortest derivation, so no initial tree fits; make it at least {shortest}",
+            key="init_max_depth",
         )
     if config.max_depth is not None and config.max_depth < shortest:
         raise PipelineError(
             f"max_depth: {config.max_depth} is below the {shortest} levels of the grammar's shortest "
-            f"derivation, so every genome would be invalid; make it at least {shortest}"
+            f"derivation, so every genome would be invalid; make it at least {shortest}",
+            key="max_depth",
         )
     if config.max_depth is not None and config.max_depth < config.init_max_depth:
         raise PipelineError(
             f"max_depth: {config.max_depth} is below init_max_depth {config.init_max_depth}, so some "
-            "initial trees would be invalid at once; raise max_depth or lower init_max_depth"
+            "initial trees would be invalid at once; raise max_depth or lower init_max_depth",
+            key="max_depth",
         )

@@ -17,7 +17,14 @@ from gaitgram.backends.api import Evaluator
 from gaitgram.cli.common import check_output, err, fail, load_usable
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint
-from gaitgram.evolution.config import ConfigError, RunConfig, key_location, load_config, with_overrides
+from gaitgram.evolution.config import (
+    NESTED,
+    ConfigError,
+    RunConfig,
+    key_location,
+    load_config,
+    with_overrides,
+)
 from gaitgram.evolution.distributed import ClusterError, DaskEvaluator, connect
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
 from gaitgram.evolution.session import run_session, stop_on_interrupt
@@ -153,8 +160,9 @@ def _new_run(
     try:
         pipeline = run_pipeline(load_usable(grammar, parse_defines(defines)), load_config(config, given))
     except PipelineError as error:
-        if error.key is None or config is None:
-            raise
+        top = (error.key or "").split(".")[0]
+        if error.key is None or config is None or (top in given and top not in NESTED):
+            raise  # nowhere in the file: a grammar's fault, or a flag's (whose name the message has)
         raise PipelineError(f"{key_location(config, '', error.key)}: {error}", key=error.key) from None
     if out is None:
         out = Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}"

@@ -8,7 +8,9 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
+from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+from rich.table import Table
 
 from gaitgram.cli.common import check_output, err, fail
 from gaitgram.evolution.distributed import ClusterError, DaskCluster, connect
@@ -16,18 +18,21 @@ from gaitgram.evolution.session import stop_on_interrupt
 from gaitgram.extras import MissingExtra
 from gaitgram.study.runner import (
     TASK_ERRORS,
+    ArmStatus,
     RunProgress,
     StudyDirectory,
     StudyRun,
     TaskResult,
+    check_study,
     open_study,
     run_study,
 )
-from gaitgram.study.spec import ScaleDown, load_study
+from gaitgram.study.spec import ScaleDown, Study, load_study
 
 _StudyFile = Annotated[Path, typer.Argument(help="The study file (docs/study.md).", show_default=False)]
 _Out = Annotated[
-    Path, typer.Option("--out", "-o", help="The study directory; giving it again continues the study.")
+    Path | None,
+    typer.Option("--out", "-o", help="The study directory; giving it again continues the study."),
 ]
 _Runs = Annotated[int | None, typer.Option(min=1, help="Runs per arm, instead of the file's.")]
 _Generations = Annotated[
@@ -58,11 +63,19 @@ _DaskLocal = Annotated[
     int | None, typer.Option(min=1, help="Run on a local Dask cluster of this many workers.")
 ]
 _Quiet = Annotated[bool, typer.Option("--quiet", "-q", help="Print only the summary.")]
+_Check = Annotated[
+    bool,
+    typer.Option(
+        "--check",
+        help="Check the study file (and the -o directory, if given) and print its plan and progress; "
+        "run nothing, write nothing.",
+    ),
+]
 
 
 def command(
     study_file: _StudyFile,
-    out: _Out,
+    out: _Out = None,
     runs: _Runs = None,
     generations: _Generations = None,
     population: _Population = None,
@@ -71,14 +84,24 @@ def command(
     scheduler: _Scheduler = None,
     dask_local: _DaskLocal = None,
     quiet: _Quiet = False,
+    check: _Check = False,
 ) -> None:
     """Run a study: every arm (grammar, configuration, strategy) for its number of runs.
 
     Runs go in parallel, one per core by default. Every generation of every run is checkpointed:
     run the same command again after a stop, a crash or kill -9 and the study continues to exactly
     the results of an uninterrupted one. A different study file or flags for an existing directory
-    are refused. Report it with `gaitgram report DIR`.
+    are refused. Report it with `gaitgram report DIR`. `--check` says whether the command would
+    run, and how far the directory has got, before hours are spent.
     """
+    if check:
+        _check(study_file, out, ScaleDown(runs, generations, population))
+        return
+    if out is None:
+        raise typer.BadParameter(
+            "give the study directory to run the study in (only --check runs without one)",
+            param_hint="'-o' / '--out'",
+        )
     cores = os.cpu_count() or 1
     jobs = jobs or (dask_local or cores)
     threads = threads or max(1, cores // jobs)
@@ -166,3 +189,51 @@ def _run(
         last_poll = 0.0
         on_progress([], done.results)
     return done
+
+
+def _check(study_file: Path, out: Path | None, scale: ScaleDown) -> None:
+    """The plan of a study, and what of it ``out`` holds: exit 2 with the error a run would give."""
+    try:
+        study = load_study(study_file, scale)
+        statuses = check_study(study, out)
+    except TASK_ERRORS as error:
+        raise fail(str(error)) from None
+    console = Console(highlight=False)
+    console.print(_plan_table(study, statuses))
+    planned = study.runs * len(study.arms)
+    finished = sum(s.finished for s in statuses)
+    held = {s.held for s in statuses if s.held}
+    flags = " ".join(filter(None, [f"--runs {scale.runs}" if scale.runs is not None else "", scale.flags]))
+    run = " ".join(filter(None, ["gaitgram study", str(study_file), "-o", str(out or "DIR"), flags]))
+    if out is None or not held:
+        console.print(f"ready: {planned} runs, nothing written; run with: {run}")
+    elif finished == planned:
+        console.print(
+            f"{out} holds this study, complete ({planned} runs); report with: gaitgram report {out}"
+        )
+    else:
+        grows = f"; it grows from {max(held)} to {study.runs} runs per arm" if max(held) < study.runs else ""
+        console.print(
+            f"{out} holds this study: {finished} of {planned} runs finished{grows}; continue with: {run}"
+        )
+
+
+def _plan_table(study: Study, statuses: list[ArmStatus]) -> Table:
+    table = Table(
+        title=f"{study.title}: {len(study.arms)} arms x {study.runs} runs",
+        caption="budget: new gaits per run, population + generations x (population - elite)",
+    )
+    for column in ("arm", "strategy", "grammar", "generations", "population", "budget", "finished"):
+        table.add_column(column, justify="left" if column in ("arm", "strategy", "grammar") else "right")
+    for arm, status in zip(study.arms, statuses, strict=True):
+        config = arm.config
+        table.add_row(
+            arm.name,
+            arm.strategy,
+            os.path.normpath(arm.grammar),
+            str(config.generations),
+            str(config.population),
+            str(config.budget),
+            f"{status.finished}/{study.runs}",
+        )
+    return table

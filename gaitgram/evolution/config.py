@@ -272,6 +272,10 @@ def read_toml(path: Path) -> dict[str, Any]:
         raise ConfigError(f"{path}: not valid TOML: {error}") from None
 
 
+#: Tables of settings that flags and a study's layers add to key by key rather than replace.
+NESTED = ("backend_settings", "strategy_settings")
+
+
 def load_config(path: Path | None, overrides: Mapping[str, Any] | None = None) -> RunConfig:
     """Defaults, then the TOML file, then ``overrides`` (command-line flags, None = not given)."""
     data: dict[str, Any] = read_toml(path) if path is not None else {}
@@ -285,7 +289,7 @@ def load_config(path: Path | None, overrides: Mapping[str, Any] | None = None) -
         values["start_from"] = os.path.abspath(path.parent / values["start_from"])
     flags = {k: v for k, v in (overrides or {}).items() if v is not None}
     for key, value in flags.items():
-        if key in ("backend_settings", "strategy_settings"):  # flags add to the file's table
+        if key in NESTED:  # flags add to the file's table
             values[key] = {**values.get(key, {}), **value}
         else:
             values[key] = value
@@ -294,7 +298,7 @@ def load_config(path: Path | None, overrides: Mapping[str, Any] | None = None) -
 
     def locate(key: str) -> str:
         """Where a key's value came from: its flag, or its place in the file."""
-        if key in flags and key not in ("backend_settings", "strategy_settings"):
+        if key in flags and key not in NESTED:
             return "--" + key.replace("_", "-")
         return where if path is None else _located(path, key)
 

@@ -105,14 +105,15 @@ def run_pipeline(checked: CheckResult, config: RunConfig) -> Pipeline:
     try:
         strategy = get_strategy(config.strategy)
     except StrategyNotFound as error:
-        raise PipelineError(f"strategy: {error}") from None
+        raise PipelineError(f"strategy: {error}", key="strategy") from None
     except StrategyLoadError as error:
         raise PipelineError(str(error)) from None
     if config.start_from is not None and not strategy.takes_start:
         starters = [name for name in strategy_names() if get_strategy(name).takes_start]
         raise PipelineError(
             f"start_from: strategy {config.strategy} starts from its own first generation; the ones "
-            f"that start from another run's population: {', '.join(starters) or 'none'}"
+            f"that start from another run's population: {', '.join(starters) or 'none'}",
+            key="start_from",
         )
     if strategy.check is None:
         return pipeline

@@ -129,12 +129,7 @@ def _counts(*values: Any) -> bool:
 def open_study(study: Study, out: Path) -> Iterator[StudyDirectory]:
     """The study directory, made whole or opened and verified, and locked (the study and each
     arm) while the block runs. Every backend and strategy is loaded before anything is written."""
-    for arm in study.arms:
-        try:
-            arm.pipeline.load_evaluator().close()
-            load_strategy(arm.pipeline)
-        except (MissingExtra, PipelineError) as error:
-            raise StudyError(f"{study.path}: arm {arm.name!r}: {error}") from None
+    _loadable(study)
     if not (out.exists() or out.is_symlink()) or is_empty_directory(out):
         with contextlib.suppress(FileExistsError):  # made by another gaitgram meanwhile: open it
             _create(study, out)
@@ -147,6 +142,44 @@ def open_study(study: Study, out: Path) -> Iterator[StudyDirectory]:
             message = f"arm {name!r} of {out} ({arm.path}) is in use by another gaitgram"
             locks.enter_context(_lock(arm.path, message))
         yield directory
+
+
+@dataclass(frozen=True)
+class ArmStatus:
+    """An arm of a study file, as its directory holds it."""
+
+    name: str
+    #: Runs its directory is set up for (0: no directory yet; fewer than the study's: it grows).
+    held: int
+    finished: int
+
+
+def check_study(study: Study, out: Path | None) -> list[ArmStatus]:
+    """What ``gaitgram study`` would do with ``study`` and ``out``, writing nothing: each arm's
+    runs held and finished there, or the :class:`StudyError` the study would be refused with."""
+    _loadable(study)
+    if out is None or not (out.exists() or out.is_symlink()) or is_empty_directory(out):
+        return [ArmStatus(arm.name, 0, 0) for arm in study.arms]
+    if not (out / STUDY_MANIFEST).is_file():
+        raise StudyError(f"{out} {_not_a_study(out)}")
+    directory = _verified(study, out, write=False)
+    statuses = []
+    for arm in study.arms:
+        held = directory.arms.get(arm.name)
+        runs = held.config.runs if held is not None else 0
+        finished = sum(directory.finished(Task(arm.name, run)) for run in range(runs))
+        statuses.append(ArmStatus(arm.name, runs, finished))
+    return statuses
+
+
+def _loadable(study: Study) -> None:
+    """Every arm's backend and strategy load (their extras are installed)."""
+    for arm in study.arms:
+        try:
+            arm.pipeline.load_evaluator().close()
+            load_strategy(arm.pipeline)
+        except (MissingExtra, PipelineError) as error:
+            raise StudyError(f"{study.path}: arm {arm.name!r}: {error}") from None
 
 
 def _lock(directory: Path, message: str) -> DirectoryLock:
@@ -193,9 +226,10 @@ def _create(study: Study, out: Path) -> None:
         raise StudyError(f"cannot write {out}: {error.strerror or error}") from None
 
 
-def _verified(study: Study, out: Path) -> StudyDirectory:
+def _verified(study: Study, out: Path, *, write: bool = True) -> StudyDirectory:
     """Open a study directory and check that the study given is the one it holds; grow it if the
-    study asks for more runs."""
+    study asks for more runs. Not ``write``: only check (an arm without a directory is left out,
+    none grows)."""
     existing = read_study_manifest(out)
     names = [a.name for a in existing.arms]
     if names != [a.name for a in study.arms]:
@@ -212,6 +246,8 @@ def _verified(study: Study, out: Path) -> StudyDirectory:
     for arm in study.arms:
         path = out / "arms" / arm.name
         if not (path.exists() or path.is_symlink()):  # an arm deleted to run it again from scratch
+            if not write:
+                continue
             directory = RunDirectory.create(path, arm.pipeline, defines=arm.defines, origin=str(arm.grammar))
         else:
             directory = RunDirectory.open(path)
@@ -231,8 +267,11 @@ def _verified(study: Study, out: Path) -> StudyDirectory:
                 + "\n  - ".join(found or ["its backend or engine changed"])
                 + "\ngive the same study file and flags, or choose another -o"
             )
+        if not write:
+            arms[arm.name] = directory
+            continue
         arms[arm.name] = directory.grow(study.runs)  # more runs than before: the new ones are added
-    if existing.runs != study.runs:  # written last: a killed growth grows again
+    if write and existing.runs != study.runs:  # written last: a killed growth grows again
         fingerprints = {name: arm.fingerprint for name, arm in arms.items()}
         write_atomically(out / STUDY_MANIFEST, _manifest(study, fingerprints).text())
     return StudyDirectory(out, study, arms)

@@ -43,7 +43,14 @@ from pathlib import Path
 from typing import Any
 
 from gaitgram.diagnostics import TextEdit
-from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, key_location, read_toml
+from gaitgram.evolution.config import (
+    NESTED,
+    ConfigError,
+    RunConfig,
+    config_from_mapping,
+    key_location,
+    read_toml,
+)
 from gaitgram.evolution.rundir import build_pipeline
 from gaitgram.evolution.transfer import TransferError, start_genomes
 from gaitgram.language import parse
@@ -151,10 +158,6 @@ class _Source:
 
     values: Mapping[str, Any]
     locate: Callable[[str], str]
-
-
-#: Tables of settings a layer adds to rather than replaces, as ``--set`` flags add to a run.toml's.
-NESTED = ("backend_settings", "strategy_settings")
 
 
 def _merged(*layers: Mapping[str, Any]) -> dict[str, Any]:

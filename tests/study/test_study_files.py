@@ -240,3 +240,45 @@ def test_an_arms_settings_tables_add_to_the_studys(tmp_path: Path) -> None:
     assert pony.config.backend_settings["body"] == "pony"
     assert pony.config.backend_settings["weights"] == horse.config.backend_settings["weights"]
     assert horse.config.backend_settings["weights"]["energy"] == 1.0
+
+
+def tree(path: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(path)): p.read_bytes() for p in sorted(path.rglob("*")) if p.is_file()}
+
+
+def test_check_prints_the_plan_and_progress_and_writes_nothing(tmp_path: Path) -> None:
+    """``--check`` before hours are spent: the arms, their budgets and how many runs the
+    directory has finished; the error a run would give; and not a file written or changed."""
+    (tmp_path / "g.gg").write_text(GRAMMAR)
+    (tmp_path / "s.toml").write_text(BASE)
+    out = tmp_path / "out"
+    fresh = runner.invoke(app, ["study", str(tmp_path / "s.toml"), "-o", str(out), "--check"])
+    assert fresh.exit_code == 0, fresh.output
+    assert "plain" in fresh.stdout
+    assert "mutant" in fresh.stdout
+    assert "34" in fresh.stdout  # the budget: 12 + 2 x 11
+    assert "ready: 6 runs, nothing written" in fresh.stdout
+    assert not out.exists()
+    assert study(str(tmp_path / "s.toml"), "-o", str(out), "--runs", "2").exit_code == 0
+    before = tree(out)
+    partial = runner.invoke(app, ["study", str(tmp_path / "s.toml"), "-o", str(out), "--check"])
+    assert partial.exit_code == 0, partial.output
+    assert "2/3" in partial.stdout
+    assert "4 of 6 runs finished; it grows from 2 to 3 runs per arm" in " ".join(partial.stdout.split())
+    done = runner.invoke(app, ["study", str(tmp_path / "s.toml"), "-o", str(out), "--check", "--runs", "2"])
+    assert "holds this study, complete (4 runs)" in " ".join(done.stdout.split())
+    other = runner.invoke(
+        app, ["study", str(tmp_path / "s.toml"), "-o", str(out), "--check", "--generations", "3"]
+    )
+    assert other.exit_code == 2
+    assert "arm 'plain' differs" in other.stderr
+    assert "generations: 2 -> 3" in other.stderr
+    assert tree(out) == before  # nothing grown, locked or rewritten
+
+
+def test_a_study_runs_only_with_a_directory(tmp_path: Path) -> None:
+    (tmp_path / "g.gg").write_text(GRAMMAR)
+    (tmp_path / "s.toml").write_text(BASE)
+    result = runner.invoke(app, ["study", str(tmp_path / "s.toml")])
+    assert result.exit_code == 2
+    assert "only --check runs without one" in result.stderr
