@@ -123,6 +123,11 @@ def command(
             f"cannot write {error.filename or out}: {error.strerror or error}; run the same command "
             "again to continue the study"
         ) from None
+    _say_how_it_ended(directory, done)
+
+
+def _say_how_it_ended(directory: StudyDirectory, done: StudyRun) -> None:
+    """Records rewritten, then complete (exit 0) or stopped with runs unfinished (exit 130)."""
     if done.restored:
         err.print(
             f"rewrote {len(done.restored)} record file(s) that disagreed with their runs' checkpoints: "
@@ -132,10 +137,11 @@ def command(
     if unfinished:
         err.print(f"stopped with {len(unfinished)} run(s) unfinished; continue with the same command")
         raise typer.Exit(130)
+    study = directory.study
     err.print(
-        f"study complete: {len(study.arms)} arms x {study.runs} runs in {out} "
+        f"study complete: {len(study.arms)} arms x {study.runs} runs in {directory.path} "
         f"({len(done.results)} run(s) this time); "
-        f"report with: gaitgram report {out}",
+        f"report with: gaitgram report {directory.path}",
     )
 
 
