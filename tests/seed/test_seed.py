@@ -59,6 +59,7 @@ def test_the_seed_walks_like_a_horse_on_the_horse() -> None:
     assert c["measured_stride"] == pytest.approx(targets.stride_length, rel=0.05)
     assert c["measured_frequency"] == pytest.approx(targets.stride_frequency, rel=0.02)
     assert 0.55 <= c["measured_duty_factor"] <= 0.62  # the DLC walks' IQR: 0.55-0.63
+    assert checked.fitness == pytest.approx(0.189, abs=5e-4)  # docs/fitness.md quotes it
     assert len(checked.cycles["speed"]) == 3
     assert np.ptp(checked.cycles["speed"]) < 0.02 * targets.velocity  # steady
 
