@@ -37,7 +37,14 @@ import numpy as np
 from gaitgram.backends.api import Verdict
 from gaitgram.strategies.kept import Front, Repertoire
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable, scoring_listing
-from gaitgram.study.stats import Comparison, bootstrap_median_ci, compare, wilson_interval
+from gaitgram.study.stats import (
+    Comparison,
+    bootstrap_median_ci,
+    compare,
+    compare_rates,
+    compare_spreads,
+    wilson_interval,
+)
 
 # ---- the building blocks of a section --------------------------------------------------------
 
@@ -513,6 +520,99 @@ def first_walk_section(arms: Sequence[ArmRecord]) -> Section | None:
     )
     tests = (RankTests("generation of the first walk", compare(ranked)),)
     return Section("first-walk", "The first walk", "over generations", FIRST_WALK_TEXT, (table,), tests)
+
+
+# ---- walk rates and spreads compared ----------------------------------------------------------
+
+
+WALK_RATES_TEXT = (
+    "Whether two arms' walk rates (the share of runs whose best gait is a walk) differ: Fisher's "
+    "exact test on each pair's counts, two-sided, Holm-adjusted over the pairs. Small counts "
+    "separate only large differences: with 10 runs an arm, 9 walks against 5 is p = 0.14."
+)
+
+
+def walk_rates_section(arms: Sequence[ArmRecord]) -> Section | None:
+    """Fisher's exact test of each pair's walk rates; None where walks are not counted."""
+    if len(arms) < 2 or any(arm.walks is None for arm in arms):
+        return None
+    counts = {arm.name: (int(arm.walks or 0), len(arm.runs)) for arm in arms}
+    pairs = compare_rates(counts)
+    table = Table(
+        "pairs",
+        (
+            Column("pair", "pair", Kind.TEXT),
+            Column("walks_first", "walks, first", Kind.TEXT),
+            Column("walks_second", "walks, second", Kind.TEXT),
+            Column("p", "p", Kind.P),
+            Column("p_holm", "p (Holm)", Kind.P),
+        ),
+        tuple(
+            (
+                f"{p.first} vs {p.second}",
+                "{}/{}".format(*counts[p.first]),
+                "{}/{}".format(*counts[p.second]),
+                p.p_value,
+                p.p_holm,
+            )
+            for p in pairs
+        ),
+    )
+    return Section("walk-rates", "Walk rates compared", "runs' best gaits", WALK_RATES_TEXT, (table,))
+
+
+SPREAD_TEXT = (
+    "How far apart each arm's runs end: the standard deviation and interquartile range of the "
+    "final bests, and whether they differ by Levene's test centred on the median (the "
+    "Brown-Forsythe test, robust to the skew of fitness values), over all arms and for each pair, "
+    "Holm-adjusted. The largest spread is a finding only where the test separates it."
+)
+
+
+def spread_section(arms: Sequence[ArmRecord]) -> Section | None:
+    """The spread of each arm's final bests, and the Brown-Forsythe tests of it."""
+    if len(arms) < 2:
+        return None
+    finals = {arm.name: np.asarray(arm.final_best, dtype=float) for arm in arms}
+    spreads = Table(
+        "arms",
+        (
+            Column("arm", "arm", Kind.TEXT),
+            Column("runs", "runs", Kind.COUNT),
+            Column("sd", "SD"),
+            Column("iqr", "IQR"),
+        ),
+        tuple(
+            (
+                name,
+                len(values),
+                float(values.std(ddof=1)) if len(values) > 1 else math.nan,
+                float(np.subtract(*np.percentile(values, [75, 25]))),
+            )
+            for name, values in finals.items()
+        ),
+    )
+    tested = compare_spreads(finals)
+    pairs = Table(
+        "pairs",
+        (
+            Column("pair", "pair", Kind.TEXT),
+            Column("w", "W"),
+            Column("p", "p", Kind.P),
+            Column("p_holm", "p (Holm)", Kind.P),
+        ),
+        tuple((f"{p.first} vs {p.second}", p.statistic, p.p_value, p.p_holm) for p in tested.pairs),
+    )
+    overall = (
+        f"Brown-Forsythe over all arms: W = {value_text(tested.statistic, 3)}, p {_p_phrase(tested.p_value)}."
+    )
+    title, scope = "Spread of the final bests", "final generation"
+    return Section("spread", title, scope, SPREAD_TEXT, (spreads, pairs), notes=(overall,))
+
+
+def _p_phrase(value: float) -> str:
+    text = p_text(value)
+    return text if text.startswith("<") else f"= {text}"
 
 
 # ---- the report ------------------------------------------------------------------------------

@@ -54,7 +54,9 @@ from gaitgram.study.model import (
     figure_name,
     first_walk_section,
     fronts_section,
+    spread_section,
     start_section,
+    walk_rates_section,
 )
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable, load_arms
 
@@ -84,6 +86,8 @@ def study_report(
     sections = (
         start_section(arms),
         first_walk_section(arms),
+        walk_rates_section(arms),
+        spread_section(arms),
         fronts_section(arms, fronts, repertoires, cells),
         realism_section(arms, assessed),
         robustness_section(arms, assessed),

@@ -5,7 +5,10 @@ Fitness distributions of evolutionary runs are skewed and bounded, so a study
 report uses rank statistics (scipy.stats): Kruskal-Wallis across all arms,
 two-sided Mann-Whitney U for each pair with Holm's step-down correction for the
 number of pairs, the Vargha-Delaney A12 effect size, and bootstrap confidence
-intervals of each arm's median. Fitness is minimised throughout.
+intervals of each arm's median. Fitness is minimised throughout. Two more
+questions get their own tests: whether arms' walk rates differ (Fisher's exact
+test per pair, Holm-adjusted) and whether their final bests spread differently
+(Levene's test centred on the median, the Brown-Forsythe test, robust to skew).
 """
 
 from __future__ import annotations
@@ -46,10 +49,12 @@ def a12_magnitude(value: float) -> str:
 
 
 def holm(p_values: Sequence[float]) -> list[float]:
-    """Holm's step-down adjusted p-values (each capped at 1, monotone in the sorted order)."""
-    m = len(p_values)
-    order = sorted(range(m), key=lambda i: p_values[i])
-    adjusted = [0.0] * m
+    """Holm's step-down adjusted p-values (each capped at 1, monotone in the sorted order); a
+    p-value that is nan (no test was possible) stays nan and is not counted."""
+    tested = [i for i, p in enumerate(p_values) if not math.isnan(p)]
+    m = len(tested)
+    order = sorted(tested, key=lambda i: p_values[i])
+    adjusted = [math.nan] * len(p_values)
     running = 0.0
     for rank, i in enumerate(order):
         running = max(running, min(1.0, (m - rank) * p_values[i]))
@@ -199,3 +204,67 @@ def _varied(samples: Sequence[np.ndarray]) -> bool:
     """scipy's rank tests are undefined when every value of every sample is the same."""
     joined = np.concatenate(samples)
     return bool(len(joined) and np.ptp(joined) > 0)
+
+
+@dataclass(frozen=True)
+class RatePair:
+    """Two arms' rates of successes (walks) in their runs, compared by Fisher's exact test."""
+
+    first: str
+    second: str
+    p_value: float
+    p_holm: float
+
+
+def compare_rates(counts: Mapping[str, tuple[int, int]]) -> tuple[RatePair, ...]:
+    """Fisher's exact test (two-sided) for each pair of ``name: (successes, trials)``, in order,
+    Holm-adjusted over the pairs."""
+    from scipy import stats
+
+    raw = []
+    for (a, (k, n)), (b, (j, m)) in itertools.combinations(counts.items(), 2):
+        p = float(stats.fisher_exact([[k, n - k], [j, m - j]]).pvalue) if n and m else math.nan
+        raw.append((a, b, p))
+    adjusted = holm([p for *_, p in raw])
+    return tuple(RatePair(a, b, p, q) for (a, b, p), q in zip(raw, adjusted, strict=True))
+
+
+@dataclass(frozen=True)
+class SpreadPair:
+    first: str
+    second: str
+    statistic: float
+    p_value: float
+    p_holm: float
+
+
+@dataclass(frozen=True)
+class SpreadComparison:
+    """Levene's test centred on the median (Brown-Forsythe) over all groups and for each pair."""
+
+    statistic: float
+    p_value: float
+    pairs: tuple[SpreadPair, ...]
+
+
+def compare_spreads(groups: Mapping[str, Sequence[float]]) -> SpreadComparison:
+    """Whether the groups spread differently: Brown-Forsythe over all of them, and for each pair
+    in order, Holm-adjusted. Groups of fewer than two values, or of none that differ from their
+    median, have no spread to test (nan)."""
+    from scipy import stats
+
+    def test(samples: list[np.ndarray]) -> tuple[float, float]:
+        if len(samples) < 2 or any(len(x) < 2 for x in samples):
+            return math.nan, math.nan
+        if all(np.ptp(np.abs(x - np.median(x))) == 0 for x in samples):
+            return math.nan, math.nan  # every deviation equal: scipy divides by zero
+        result = stats.levene(*samples, center="median")
+        return float(result.statistic), float(result.pvalue)
+
+    names = list(groups)
+    samples = {n: np.asarray(groups[n], dtype=float) for n in names}
+    overall = test(list(samples.values()))
+    raw = [(a, b, *test([samples[a], samples[b]])) for a, b in itertools.combinations(names, 2)]
+    adjusted = holm([p for *_, p in raw])
+    pairs = tuple(SpreadPair(a, b, w, p, q) for (a, b, w, p), q in zip(raw, adjusted, strict=True))
+    return SpreadComparison(*overall, pairs)

@@ -48,8 +48,9 @@ def test_the_page_is_self_contained(report: Path) -> None:
     assert all(link.startswith("data:") for link in links)
     assert "<script src" not in page
     assert "<link" not in page
-    # Every table row of summary.md is in the page once: the summary's, the start's, the first walk's.
-    assert (report / "summary.md").read_text().count("| alpha |") == page.count("<td>alpha</td>") == 3
+    # Every table row of summary.md is in the page once: the summary's, the start's, the first
+    # walk's and the spread's.
+    assert (report / "summary.md").read_text().count("| alpha |") == page.count("<td>alpha</td>") == 4
 
 
 def test_the_same_report_gives_the_same_page(report: Path, tmp_path: Path) -> None:

@@ -22,7 +22,15 @@ from gaitgram.cli import app
 from gaitgram.study.model import build_report
 from gaitgram.study.records import load_study_arms
 from gaitgram.study.spec import ScaleDown, StudyError, load_study
-from gaitgram.study.stats import a12, holm, mcnemar_exact, paired_summary, wilson_interval
+from gaitgram.study.stats import (
+    a12,
+    compare_rates,
+    compare_spreads,
+    holm,
+    mcnemar_exact,
+    paired_summary,
+    wilson_interval,
+)
 
 runner = CliRunner()
 
@@ -182,6 +190,9 @@ def test_scaling_down_keeps_the_elites_share(tmp_path: Path) -> None:
 
 def test_holm_and_a12_on_known_values() -> None:
     assert holm([0.01, 0.04, 0.03]) == pytest.approx([0.03, 0.06, 0.06])
+    adjusted = holm([0.01, float("nan"), 0.04, 0.03])  # an untestable pair is not counted
+    assert np.isnan(adjusted[1])
+    assert [adjusted[i] for i in (0, 2, 3)] == pytest.approx([0.03, 0.06, 0.06])
     assert a12([1, 2], [3, 4]) == 1.0
     assert a12([1, 2], [1, 2]) == 0.5
 
@@ -195,6 +206,32 @@ def test_the_walk_rate_interval_is_wilsons_score_interval(walks: int, runs: int)
     low, high = wilson_interval(walks, runs)
     assert (low, high) == pytest.approx((centre - half, centre + half), abs=1e-12)
     assert 0 <= low <= share <= high <= 1
+
+
+def test_walk_rates_are_compared_by_fishers_exact_test_with_holm() -> None:
+    counts = {"a": (9, 10), "b": (5, 10), "c": (0, 10)}
+    pairs = compare_rates(counts)
+    assert [(p.first, p.second) for p in pairs] == [("a", "b"), ("a", "c"), ("b", "c")]
+    raw = [stats.fisher_exact([[k, n - k], [j, m - j]]).pvalue for (k, n), (j, m) in
+           [(counts["a"], counts["b"]), (counts["a"], counts["c"]), (counts["b"], counts["c"])]]  # fmt: skip
+    assert [p.p_value for p in pairs] == pytest.approx(raw)
+    assert [p.p_holm for p in pairs] == pytest.approx(holm(raw))
+    assert pairs[0].p_value == pytest.approx(0.1409, abs=1e-4)  # as the report's text says
+
+
+def test_spreads_are_compared_by_brown_forsythe_with_holm() -> None:
+    rng = np.random.default_rng(3)
+    groups = {"tight": rng.normal(0, 0.01, 12), "wide": rng.normal(0, 1.0, 12), "mid": rng.normal(0, 0.3, 12)}
+    tested = compare_spreads(groups)
+    overall = stats.levene(*groups.values(), center="median")
+    assert (tested.statistic, tested.p_value) == pytest.approx((overall.statistic, overall.pvalue))
+    raw = [stats.levene(groups[p.first], groups[p.second], center="median").pvalue for p in tested.pairs]
+    assert [p.p_value for p in tested.pairs] == pytest.approx(raw)
+    assert [p.p_holm for p in tested.pairs] == pytest.approx(holm(raw))
+    assert tested.pairs[0].p_holm < 0.05  # tight against wide
+    flat = compare_spreads({"a": [1.0, 1.0, 1.0], "b": [2.0, 2.0, 2.0]})  # no spread to test
+    assert np.isnan(flat.p_value)
+    assert np.isnan(flat.pairs[0].p_holm)
 
 
 def test_paired_playings_are_compared_run_by_run() -> None:
