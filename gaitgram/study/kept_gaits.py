@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cache
@@ -586,10 +587,14 @@ def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed
         for t in names:
             trials = [trial for g in found if (trial := _trial(g, t))]
             fell = sum(not trial.upright for trial in trials)
-            stopped = sum(trial.upright and not trial.walking for trial in trials)
+            stopped = [trial for trial in trials if trial.upright and not trial.walking]
             where = " on some floor" if t in floored else ""
             said = [f"{fell} fell{where}"] if fell else []
-            said += [f"{stopped} stayed up but were not walking again{where}"] if stopped else []
+            if stopped:
+                terms = _failing_terms(stopped)
+                first = " on the first floor not held" if t in floored else ""
+                why = f" (walk terms failing{first}: {terms})" if terms else ""
+                said.append(f"{len(stopped)} stayed up but were not walking again{where}{why}")
             if said:
                 failures.append(f"{t}: " + ", ".join(said))
         if failures:
@@ -603,6 +608,21 @@ def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed
         if sum(bool(v) for v in not_held[t].values()) >= 2
     )
     return Section("robustness", title, scope, text=text, tables=(table,), tests=tests, notes=tuple(notes))
+
+
+#: How a trial's detail names the walk terms a gait failed to walk again by (robustness.py).
+FAILED_TERMS = re.compile(r"not walking again: ([a-z_]+(?:, [a-z_]+)*)")
+
+
+def _failing_terms(trials: Sequence[Any]) -> str:
+    """How many of ``trials`` fail each walk term (on the first floor not held, for floors), most
+    first: ``speed 28, footfalls 17``; what a detail does not say is not counted."""
+    counts: dict[str, int] = {}
+    for trial in trials:
+        found = FAILED_TERMS.search(trial.detail or "")
+        for term in found.group(1).split(", ") if found else ():
+            counts[term] = counts.get(term, 0) + 1
+    return ", ".join(f"{term} {n}" for term, n in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0])))
 
 
 def _trial(gait: Assessed, name: str) -> Any:

@@ -178,7 +178,19 @@ def test_the_sections_show_what_the_runs_keep(made: Path) -> None:
     ge = [r["realism"]["measures"]["stride_frequency"] for r in kept(made / "ge") if r["gait"] == "measured"]
     assert float(measures["stride frequency (Hz)"]["ge"]) == pytest.approx(np.median(ge))
     data = json.loads((out / "summary.json").read_text())
-    assert set(data["sections"]) == {"start", "first-walk", "realism", "robustness"}
+    assert set(data["sections"]) == {"start", "first-walk", "walk-rates", "spread", "realism", "robustness"}
+    for name in ARMS:  # why a gait that stayed up was not walking again, as its detail says
+        stopped = [
+            t["detail"]
+            for r in kept(made / name)
+            for t in r["trials"]
+            if t["disturbance"] == "bumps" and t["upright"] and not t["walking"]
+        ]
+        if stopped:
+            speed = sum("not walking again: " in d and "speed" in d.split("again: ")[1] for d in stopped)
+            note = next(line for line in summary.splitlines() if line.startswith(f"- **{name}**"))
+            assert "walk terms failing on the first floor not held: " in note
+            assert (f"speed {speed}" in note) == (speed > 0)
     assert list(data["sections"]["realism"]["tests"]) == ["realism distance"]
     assert list(data["sections"]["robustness"]["tests"]) == ["bumps: share of floors not held"]
     assert (out / "realism.svg").read_text().count("<svg") == 1
@@ -318,3 +330,20 @@ def test_a_report_over_the_first_runs_measures_their_best_walk_apart(
     assert asked == [1]
     kept_walk = json.loads(written[0].read_text())
     assert (kept_walk["run"], kept_walk["genome"]) == (0, list(first.genome))
+
+
+def test_the_terms_a_disturbed_gait_failed_are_counted_from_its_detail() -> None:
+    from gaitgram.study.kept_gaits import Trial, _failing_terms
+
+    def trial(detail: str | None) -> Trial:
+        return Trial("bumps", "", True, False, detail, 10, 3)
+
+    trials = [
+        trial("held on 3 of 10 floors; on seed 26: not walking again: speed, footfalls"),
+        trial("held on 0 of 10 floors; on seed 26: not walking again: speed"),
+        trial("held on 9 of 10 floors; on seed 31: not walking again: stride_length, speed"),
+        trial("something else entirely"),
+        trial(None),
+    ]
+    assert _failing_terms(trials) == "speed 3, footfalls 1, stride_length 1"
+    assert _failing_terms([]) == ""
