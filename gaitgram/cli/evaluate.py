@@ -94,7 +94,7 @@ def command(
     except (SelectionError, PipelineError) as error:
         raise fail(str(error)) from None
     if as_json:
-        typer.echo(jsonio.dumps(_record(chosen, scored)))
+        typer.echo(jsonio.dumps(_record(chosen, scored, horizon)))
     else:
         _show(chosen, scored)
     _check_reproduced(chosen, scored.evaluation, horizon)
@@ -122,10 +122,14 @@ def _check_reproduced(chosen: SelectedGait, evaluation: Evaluation, horizon: int
         )
 
 
-def _record(chosen: SelectedGait, scored: Individual) -> dict[str, Any]:
-    """``--json``: the gait, where it was scored, and its evaluation."""
+def _record(chosen: SelectedGait, scored: Individual, horizon: int | None) -> dict[str, Any]:
+    """``--json``: the gait (which run's, with ``--run``), where it was scored, over what horizon,
+    and its evaluation."""
     record = {
         "backend": chosen.pipeline.backend,
+        "gait": chosen.describe,
+        **({"run": chosen.run} if chosen.run is not None else {}),
+        **({"horizon": horizon} if horizon is not None else {}),
         "generation": chosen.generation,
         "genome": list(chosen.genome),
         "phenotype": scored.phenotype,

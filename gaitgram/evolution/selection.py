@@ -27,6 +27,8 @@ class SelectedGait:
     #: What the run recorded for this genome (its best), to check that re-evaluating reproduces it.
     recorded: Evaluation | None
     describe: str
+    #: The run of a run directory it is the best gait or best walk of (None: a genome given).
+    run: int | None = None
 
 
 class SelectionError(ValueError):
@@ -51,14 +53,13 @@ def from_run(
         at = _reached(generation, kept.generation, f"the best walk of {path} is run {kept.run}'s, which")
         recorded = kept.evaluation if at == kept.generation else None
         describe = f"{path} run {kept.run}, best walk, generation {at}"
-        return SelectedGait(directory.pipeline, kept.genome, at, recorded, describe)
+        return SelectedGait(directory.pipeline, kept.genome, at, recorded, describe, kept.run)
     if genome is None:
         run, last, best = best_of_runs(directory)
         at = _reached(generation, last, f"the best gait of {path} is run {run}'s, which")
         recorded = best.evaluation if at == last else None
-        return SelectedGait(
-            directory.pipeline, best.genome, at, recorded, f"{path} run {run}, best, generation {at}"
-        )
+        describe = f"{path} run {run}, best, generation {at}"
+        return SelectedGait(directory.pipeline, best.genome, at, recorded, describe, run)
     planned = directory.config.generations
     at = _reached(generation, planned, f"{path} runs generations 0..{planned} only;", planned=True)
     return SelectedGait(directory.pipeline, genome, at, None, f"{path}, generation {at}")

@@ -87,6 +87,8 @@ def test_walk_picks_the_best_walk_where_the_best_gait_is_none(arm: Path) -> None
     assert record["components"]["walk"] == 1.0
     assert record["components"]["checked_cycles"] == 20.0
     assert record["fitness"] == record["recorded_fitness"]
+    assert (record["run"], record["gait"]) == (0, f"{arm} run 0, best walk, generation 2")
+    assert "horizon" not in record
     assert record["fitness"] > json.loads(best.stdout)["fitness"]  # ranked below the best gait
     walkers = [g for g in population(arm, 0) if g["evaluation"]["components"]["walk"] == 1.0]
     assert [record["genome"]] == [g["genome"] for g in walkers]
@@ -94,6 +96,7 @@ def test_walk_picks_the_best_walk_where_the_best_gait_is_none(arm: Path) -> None
     assert "run 0, best walk, generation 2" in table.stderr
     longer = evaluate("--run", str(arm), "--walk", "--horizon", "40")  # does it stay a walk?
     held = json.loads(longer.stdout)
+    assert (held["run"], held["horizon"]) == (0, 40)  # which gait, checked over what
     assert longer.exit_code == (0 if held["status"] == "ok" else 1), longer.stderr
     if held["status"] == "ok":
         assert (held["fitness"], held["components"]["checked_cycles"]) == (record["fitness"], 40.0)

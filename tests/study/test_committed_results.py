@@ -41,3 +41,24 @@ def test_a_current_report_measured_its_gaits_as_this_code_does(study: Path) -> N
     assert not stale, f"assessed by another code: {stale[:3]}; gaitgram report --assess"
     header = (study / "robustness-shares.csv").read_text(encoding="utf-8").splitlines()[0]
     assert "floors_held_bumps" in header.split(",")  # the bumps are ten floors
+
+
+@pytest.mark.parametrize("study", CURRENT, ids=lambda study: study.name)
+def test_a_readme_s_longer_check_of_its_best_walks_is_kept_and_holds(study: Path) -> None:
+    """Where a README re-scores each arm's best walk over 40 cycles into best-walks-40-cycles.jsonl
+    (``evaluate --walk --horizon 40 --json``), the file is there, one record per arm, each still a
+    walk over the 40 cycles with the fitness its run recorded (issue 26: a longer horizon keeps a
+    committed best walk a walk)."""
+    kept = study / "best-walks-40-cycles.jsonl"
+    if "best-walks-40-cycles.jsonl" not in (study / "README.md").read_text(encoding="utf-8"):
+        assert not kept.exists()
+        return
+    records = [json.loads(line) for line in kept.read_text(encoding="utf-8").splitlines()]
+    arms = {record["gait"].split(" run ")[0] for record in records}
+    assert len(arms) == len(records) >= 3
+    for record in records:
+        assert record["horizon"] == 40
+        assert record["status"] == "ok", record["gait"]
+        assert record["components"]["walk"] == 1.0, record["gait"]
+        assert record["components"]["checked_cycles"] == 40.0
+        assert record["fitness"] == record["recorded_fitness"]
