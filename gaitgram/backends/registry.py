@@ -90,6 +90,10 @@ class BackendSpec:
       motion that play gaits evolved under ``settings`` on ``body``: the same
       curves, their cycle frequency scaled as ``scaling`` (one of
       ``retarget_scalings``) says; None: gaits cannot change bodies.
+    * ``assess(settings, motion)`` measures each gait of a motion batch beyond its
+      score, once, for ``gaitgram report --assess`` to keep (``assessment.json``):
+      ``mujoco-horse``'s realism beside real walks and its disturbance trials;
+      None: nothing is measured beyond the score.
     """
 
     name: str
@@ -111,6 +115,7 @@ class BackendSpec:
     bodies: Mapping[str, str] | None = None
     retarget: Callable[[Mapping[str, Any], Any, str, str], tuple[dict[str, Any], Any]] | None = None
     retarget_scalings: tuple[str, ...] = ()
+    assess: Callable[[Mapping[str, Any], Any], list[dict[str, Any]]] | None = None
 
     def checked_settings(self, settings: Mapping[str, Any]) -> dict[str, Any]:
         """``settings`` checked and normalised; :class:`SettingsError` names the bad key."""

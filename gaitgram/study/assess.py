@@ -1,12 +1,12 @@
 """Kept gaits measured beyond their scores, once, into the study directory: ``gaitgram report --assess``.
 
 The report's realism and robustness sections (:mod:`gaitgram.study.kept_gaits`) need simulation:
-each run's best gait (its last checkpoint's best, which ``best.json`` records) is played as the
-run scored it and measured beside the DLC_Horse walks
-(:mod:`gaitgram.backends.mujoco_horse.realism`), then played to the horizon under each disturbance
-(:mod:`gaitgram.backends.mujoco_horse.robustness`). That is slow, so it is an explicit step whose
-results are kept in the run directory, ``run-NNN/assessment.json``; a report only reads them, and
-so stays fast and the same, byte for byte, however often it is made.
+each run's best gait (its last checkpoint's best, which ``best.json`` records) is measured by the
+backend that scored it (``BackendSpec.assess``; on ``mujoco-horse``, beside the DLC_Horse walks
+and under each disturbance: :mod:`gaitgram.backends.mujoco_horse.assessment`). That is slow, so
+it is an explicit step whose results are kept in the run directory, ``run-NNN/assessment.json``;
+a report only reads them, and so stays fast and the same, byte for byte, however often it is
+made.
 
 A kept assessment names the gait (genome, generation, fitness), what scored it (backend and
 version) and :data:`FORMAT`: when any of these no longer matches, the report calls it stale and
@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from gaitgram import jsonio
+from gaitgram.backends.registry import get_backend
 from gaitgram.evolution.checkpoint import load_checkpoint
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_walk_of_runs, read_manifest
 from gaitgram.fileio import write_atomically
@@ -35,7 +36,7 @@ BEST_WALK = "best-walk-assessment.json"
 #: Raised when what is measured, or how, changes: every kept assessment is then stale.
 #: 2: the bumps are ten floors, and each trial keeps on how many it was played and held.
 FORMAT = 2
-#: The backend whose gaits are measured.
+#: The backend whose assessments the report reads (its sections hold gaits beside real horses).
 MEASURED_ON = "mujoco-horse"
 
 
@@ -76,7 +77,7 @@ def assess_arm(
     except RunDirectoryError as error:
         raise ReportError(str(error)) from None
     pipeline = directory.pipeline
-    if pipeline.backend != MEASURED_ON:
+    if pipeline.backend != MEASURED_ON or pipeline.spec.assess is None:
         return []
     manifest = read_manifest(path)
     version = manifest["backend_version"] if manifest else ""
@@ -155,59 +156,11 @@ def _kept(path: Path, record: dict[str, Any]) -> bool:
 
 
 def measure(settings: dict[str, Any], batch: Any) -> list[dict[str, Any]]:
-    """Each gait of ``batch`` (a :class:`~gaitgram.motion.gait.MotionBatch`) with the run's backend
-    ``settings``: its realism (``None`` where it falls, does not step or cannot be built) and its
-    disturbance trials, as kept in ``assessment.json``."""
-    from gaitgram.backends.mujoco_horse.robustness import DISTURBANCES, disturbed
-
-    playable = [g for g in range(len(batch)) if batch.problems[g] is None]
-    found: list[dict[str, Any]] = [
-        {"gait": "invalid", "detail": batch.details[g], "realism": None, "trials": []}
-        for g in range(len(batch))
-    ]
-    if not playable:
-        return found
-    sub = batch.take(playable)
-    realism = _realism(settings, sub)
-    trials = {d.name: disturbed(settings, sub, d.name) for d in DISTURBANCES}
-    for k, g in enumerate(playable):
-        found[g] = {
-            "gait": "measured" if realism[k] is not None else "falls",
-            "detail": None,
-            "realism": realism[k],
-            "trials": [
-                {
-                    "disturbance": d.name,
-                    "describe": d.describe,
-                    "upright": trials[d.name][k].upright,
-                    "walking": trials[d.name][k].walking,
-                    "detail": trials[d.name][k].detail,
-                    "floors": trials[d.name][k].floors,
-                    "held": trials[d.name][k].held,
-                }
-                for d in DISTURBANCES
-            ],
-        }
-    return found
-
-
-def _realism(settings: dict[str, Any], batch: Any) -> list[dict[str, Any] | None]:
-    """:func:`~gaitgram.backends.mujoco_horse.realism.assess` as ``assessment.json`` keeps it:
-    the measures with the window's speed and strides and their predictions, the scores, the
-    distance and the curves (one simulation)."""
-    from gaitgram.backends.mujoco_horse.realism import assess
-
-    return [
-        None
-        if realism is None
-        else {
-            "measures": {**realism.measures, **realism.at_speed},
-            "scores": realism.scores,
-            "distance": realism.distance,
-            "curves": {name: [float(v) for v in curve] for name, curve in realism.curves.items()},
-        }
-        for realism in assess(settings, batch)
-    ]
+    """Each gait of ``batch`` measured by the backend that scored it (``BackendSpec.assess``),
+    with the run's backend ``settings``, as kept in ``assessment.json``."""
+    spec = get_backend(MEASURED_ON)
+    assert spec.assess is not None
+    return list(spec.assess(settings, batch))
 
 
 def assess_arms(

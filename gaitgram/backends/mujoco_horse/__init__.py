@@ -51,6 +51,13 @@ def retarget(settings: Mapping[str, Any], motion: Any, body: str, scaling: str) 
     return play_on(settings, motion, body, scaling)
 
 
+def assess(settings: Mapping[str, Any], motion: Any) -> list[dict[str, Any]]:
+    """Import MuJoCo only to measure kept gaits beyond their scores (``report --assess``)."""
+    from gaitgram.backends.mujoco_horse.assessment import assess_gaits
+
+    return assess_gaits(settings, motion)
+
+
 def check_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
     """Every setting spelt out, defaults included: a run directory records the values it used."""
     return {k: v for k, v in asdict(HorseSettings.from_mapping(settings)).items() if v is not None}
@@ -101,4 +108,5 @@ BACKEND = BackendSpec(
     bodies={name: body.summary for name, body in BODIES.items()},
     retarget=retarget,
     retarget_scalings=SCALINGS,
+    assess=assess,
 )
