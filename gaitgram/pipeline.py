@@ -109,8 +109,8 @@ class Pipeline:
         name = config.backend or grammar.backend or DEFAULT_BACKEND
         try:
             spec = _spec(name)
-        except PipelineError as error:
-            raise PipelineError(str(error), key="backend") from None
+        except PipelineError as error:  # the config's fault where it names the backend
+            raise PipelineError(str(error), key="backend" if config.backend else None) from None
         try:
             settings = spec.checked_settings(config.backend_settings)
         except SettingsError as error:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import shlex
 import time
 from pathlib import Path
 from typing import Annotated
@@ -20,6 +21,7 @@ from gaitgram.study.runner import (
     TASK_ERRORS,
     ArmStatus,
     RunProgress,
+    StudyCheck,
     StudyDirectory,
     StudyRun,
     TaskResult,
@@ -201,30 +203,39 @@ def _check(study_file: Path, out: Path | None, scale: ScaleDown) -> None:
     """The plan of a study, and what of it ``out`` holds: exit 2 with the error a run would give."""
     try:
         study = load_study(study_file, scale)
-        statuses = check_study(study, out)
+        found = check_study(study, out)
     except TASK_ERRORS as error:
         raise fail(str(error)) from None
-    console = Console(highlight=False)
-    console.print(_plan_table(study, statuses))
+    console = Console(highlight=False, soft_wrap=True)
+    console.print(_plan_table(study, found.arms))
+    console.print(_what_running_it_does(study, study_file, out, scale, found))
+
+
+def _what_running_it_does(
+    study: Study, study_file: Path, out: Path | None, scale: ScaleDown, found: StudyCheck
+) -> str:
+    where = shlex.quote(str(out)) if out is not None else "DIR"
+    flags = [f"--runs {scale.runs}" if scale.runs is not None else "", scale.flags]
+    run = " ".join(filter(None, ["gaitgram study", shlex.quote(str(study_file)), "-o", where, *flags]))
     planned = study.runs * len(study.arms)
-    finished = sum(s.finished for s in statuses)
-    held = {s.held for s in statuses if s.held}
-    flags = " ".join(filter(None, [f"--runs {scale.runs}" if scale.runs is not None else "", scale.flags]))
-    run = " ".join(filter(None, ["gaitgram study", str(study_file), "-o", str(out or "DIR"), flags]))
-    if out is None or not held:
-        console.print(f"ready: {planned} runs, nothing written; run with: {run}")
-    elif finished == planned:
-        console.print(
-            f"{out} holds this study, complete ({planned} runs); report with: gaitgram report {out}"
-        )
-    else:
-        grows = f"; it grows from {max(held)} to {study.runs} runs per arm" if max(held) < study.runs else ""
-        console.print(
-            f"{out} holds this study: {finished} of {planned} runs finished{grows}; continue with: {run}"
-        )
+    if out is None or not found.held:
+        return f"ready: {planned} runs, nothing written; run with: {run}"
+    finished = sum(arm.finished for arm in found.arms)
+    said = [f"{out} holds this study: {finished} of {planned} runs finished"]
+    if found.running:
+        said.append("another gaitgram is running it now (a second is refused until it stops)")
+    if finished == planned:
+        return f"{said[0]}, complete; report with: gaitgram report {where}"
+    fewer = [arm.held for arm in found.arms if 0 < arm.held < study.runs]
+    if fewer:
+        said.append(f"running it grows arms from {min(fewer)} to {study.runs} runs")
+    missing = [arm.name for arm in found.arms if arm.held == 0]
+    if missing:
+        said.append(f"{', '.join(missing)} start from scratch (no directory)")
+    return "; ".join(said) + f"; continue with: {run}"
 
 
-def _plan_table(study: Study, statuses: list[ArmStatus]) -> Table:
+def _plan_table(study: Study, statuses: tuple[ArmStatus, ...]) -> Table:
     table = Table(
         title=f"{study.title}: {len(study.arms)} arms x {study.runs} runs",
         caption="budget: new gaits per run, population + generations x (population - elite)",

@@ -13,7 +13,7 @@ import difflib
 import math
 import os
 import tomllib
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
@@ -227,35 +227,107 @@ def key_location(path: Path, table: str, key: str, item: int | None = None) -> s
     (``[table.weights]``, ``weights.velocty = 1``) or an inline table holding it (``weights = {
     velocty = 1 }``); just ``path`` where it is not written. ``item`` (from 0) picks one table of
     an array of tables: ``key_location(path, "arm.settings", "elite", item=2)`` is in the third
-    ``[[arm]]``."""
-    named = _dotted(".".join(filter(None, [table, key])))
-    array = named.split(".", 1)[0]
+    ``[[arm]]``. Lines inside multi-line strings and arrays are values, not keys."""
+    named = tuple(part for part in f"{table}.{key}".split(".") if part)
     try:
-        lines = path.read_text(encoding="utf-8").splitlines()
+        text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError):
         return str(path)
-    header = ""
+    header: tuple[str, ...] = ()
     seen = 0  # the [[array]] headers so far
-    for number, line in enumerate(lines, 1):
-        stripped = line.split("#", 1)[0].strip()
-        if stripped.startswith("["):
-            header = _dotted(stripped.strip("[] \t"))
-            seen += stripped.startswith("[[") and header == array
-            written, holds = header, False  # a header holds only the lines below it
-        elif "=" in stripped:
-            written = ".".join(filter(None, [header, _dotted(stripped.split("=", 1)[0])]))
-            holds = named.startswith(written + ".")  # an inline table or array
+    for number, column, kind, parts in _toml_keys(text):
+        if kind == "key":
+            written = (*header, *parts)
+            holds = named[: len(written)] == written and len(named) > len(written)  # an inline value
         else:
-            continue
-        found = written == named or written.startswith(named + ".") or holds
+            header = written = parts
+            seen += kind == "array" and parts == named[:1]
+            holds = False  # a header holds only the lines below it
+        found = written[: len(named)] == named or holds
         if found and (item is None or seen == item + 1):
-            return f"{path}:{number}:{len(line) - len(line.lstrip()) + 1}"
+            return f"{path}:{number}:{column}"
     return str(path)
 
 
-def _dotted(key: str) -> str:
-    """A TOML key as written (``a . "b"``) as plain dotted text (``a.b``)."""
-    return ".".join(part.strip().strip("\"'") for part in key.split("."))
+def _toml_keys(text: str) -> Iterator[tuple[int, int, str, tuple[str, ...]]]:
+    """Each line that starts a table (``table``, ``array``: ``[[...]]``) or writes a key (``key``),
+    with its number, column and the key's parts (quotes removed, so ``"a.b"`` is one part); lines
+    that continue a multi-line string or array are skipped."""
+    quote = ""  # the string the scan is inside (its opening quotes: one or three)
+    depth = 0  # arrays and inline tables open in a value
+    for number, line in enumerate(text.splitlines(), 1):
+        start = len(line) - len(line.lstrip())
+        if not quote and not depth and line[start : start + 1] not in ("", "#"):
+            kind, parts = _head(line[start:])
+            if parts:
+                yield number, start + 1, kind, parts
+            if kind != "key":
+                continue  # a header line holds no value
+        i = start if quote or depth else start + _unquoted(line[start:], "=") + 1  # the value
+        while i < len(line):
+            c = line[i]
+            if quote:
+                if line.startswith(quote, i) and (quote == "'" * len(quote) or line[i - 1 : i] != "\\"):
+                    i += len(quote) - 1
+                    quote = ""
+            elif line.startswith(('"""', "'''"), i):
+                quote = line[i : i + 3]
+                i += 2
+            elif c in "\"'":
+                quote = c
+            elif c == "#":
+                break
+            elif c in "[{":
+                depth += 1
+            elif c in "]}":
+                depth = max(depth - 1, 0)
+            i += 1
+        if quote in ('"', "'"):
+            quote = ""  # a single-line string cannot go on to the next line
+
+
+def _head(line: str) -> tuple[str, tuple[str, ...]]:
+    """What a line at the top level starts: a header's kind and key, or a key = value's key."""
+    if line.startswith("["):
+        array = line.startswith("[[")
+        inner = line[2 if array else 1 :]
+        close = _unquoted(inner, "]")
+        return ("array" if array else "table"), _parts(inner[:close] if close >= 0 else "")
+    equals = _unquoted(line, "=")
+    return "key", _parts(line[:equals] if equals >= 0 else "")
+
+
+def _unquoted(text: str, char: str) -> int:
+    """The index of the first ``char`` outside quotes in ``text``; -1 if none."""
+    quote = ""
+    for i, c in enumerate(text):
+        if quote:
+            quote = "" if c == quote else quote
+        elif c in "\"'":
+            quote = c
+        elif c == char:
+            return i
+    return -1
+
+
+def _parts(key: str) -> tuple[str, ...]:
+    """A TOML key as written (``a . "b.c"``) as its parts (``a``, ``b.c``)."""
+    parts, current, quote = [], "", ""
+    for c in key:
+        if quote:
+            if c == quote:
+                quote = ""
+            else:
+                current += c
+        elif c in "\"'":
+            quote = c
+        elif c == ".":
+            parts.append(current.strip())
+            current = ""
+        else:
+            current += c
+    parts.append(current.strip())
+    return tuple(parts) if all(parts) else ()
 
 
 def read_toml(path: Path) -> dict[str, Any]:
@@ -266,6 +338,8 @@ def read_toml(path: Path) -> dict[str, Any]:
         raise ConfigError(f"{path}: not UTF-8 text") from None
     except OSError as error:
         raise ConfigError(f"{path}: cannot read: {error.strerror or error}") from None
+    except ValueError:  # a NUL in the name: no file can have it
+        raise ConfigError(f"{str(path)!r}: cannot read: a file name cannot hold a NUL character") from None
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
@@ -289,8 +363,9 @@ def load_config(path: Path | None, overrides: Mapping[str, Any] | None = None) -
         values["start_from"] = os.path.abspath(path.parent / values["start_from"])
     flags = {k: v for k, v in (overrides or {}).items() if v is not None}
     for key, value in flags.items():
-        if key in NESTED:  # flags add to the file's table
-            values[key] = {**values.get(key, {}), **value}
+        if key in NESTED:  # flags add to the file's table (one that is no table stays, refused below)
+            below = values.get(key, {})
+            values[key] = {**below, **value} if isinstance(below, Mapping) else below
         else:
             values[key] = value
     if path is not None and flags:
@@ -338,8 +413,9 @@ def config_from_mapping(
     try:
         return RunConfig(**converted)
     except ConfigError as error:
-        written = [key for key in error.keys if key in values]
-        here = locate(written[0]) if written and locate is not None else where
+        written = [locate(key) for key in error.keys if key in values] if locate is not None else []
+        flags = [at for at in written if at.startswith("--")]  # a flag given overrides the file
+        here = (flags or written or [where])[0]
         raise ConfigError(f"{here}: {error}", keys=error.keys) from None
 
 

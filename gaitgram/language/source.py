@@ -184,6 +184,8 @@ def read_bytes(path: str | Path, *, max_bytes: int = MAX_SOURCE_BYTES, what: str
         raise SourceError(name, "permission denied") from None
     except OSError as exc:
         raise SourceError(name, describe_os_error(exc)) from None
+    except ValueError:  # os.stat refuses a name holding a NUL: no file can have it
+        raise SourceError(repr(name), "is no file name: it holds a NUL character") from None
 
 
 def read_limited(

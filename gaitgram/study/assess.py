@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from gaitgram import jsonio
-from gaitgram.backends.registry import get_backend
+from gaitgram.backends.registry import BackendSpec
 from gaitgram.evolution.checkpoint import load_checkpoint
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_walk_of_runs, read_manifest
 from gaitgram.fileio import write_atomically
@@ -118,7 +118,7 @@ def assess_arm(
     batch = pipeline.motion(
         pipeline.map([tuple(r["genome"]) for _, r in wanted]), pipeline.config.generations
     )
-    measured = measure(dict(pipeline.config.backend_settings), batch)
+    measured = measure(dict(pipeline.config.backend_settings), batch, pipeline.spec)
     written = []
     for (run, record), found in zip(wanted, measured, strict=True):
         target = assessment_path(path, run) if run >= 0 else best_walk_path(path, window)
@@ -155,11 +155,11 @@ def _kept(path: Path, record: dict[str, Any]) -> bool:
     return isinstance(kept, dict) and kept_key(kept) == kept_key(record)
 
 
-def measure(settings: dict[str, Any], batch: Any) -> list[dict[str, Any]]:
-    """Each gait of ``batch`` measured by the backend that scored it (``BackendSpec.assess``),
+def measure(settings: dict[str, Any], batch: Any, spec: BackendSpec) -> list[dict[str, Any]]:
+    """Each gait of ``batch`` measured by the backend ``spec`` that scored it (its ``assess``),
     with the run's backend ``settings``, as kept in ``assessment.json``."""
-    spec = get_backend(MEASURED_ON)
-    assert spec.assess is not None
+    if spec.assess is None:
+        raise ReportError(f"backend {spec.name!r} measures nothing beyond the score")
     return list(spec.assess(settings, batch))
 
 

@@ -149,27 +149,41 @@ class ArmStatus:
     """An arm of a study file, as its directory holds it."""
 
     name: str
-    #: Runs its directory is set up for (0: no directory yet; fewer than the study's: it grows).
+    #: Runs its directory is set up for (0: no directory: it starts from scratch; fewer than the
+    #: study's: it grows).
     held: int
     finished: int
 
 
-def check_study(study: Study, out: Path | None) -> list[ArmStatus]:
+@dataclass(frozen=True)
+class StudyCheck:
+    """What ``gaitgram study`` would find in a study directory (:func:`check_study`)."""
+
+    arms: tuple[ArmStatus, ...]
+    held: bool  # the directory holds this study (its study.json names these arms)
+    running: bool  # another gaitgram is running it now: a second is refused until it stops
+
+
+def check_study(study: Study, out: Path | None) -> StudyCheck:
     """What ``gaitgram study`` would do with ``study`` and ``out``, writing nothing: each arm's
-    runs held and finished there, or the :class:`StudyError` the study would be refused with."""
+    runs held and finished there, and whether it runs now, or the :class:`StudyError` the study
+    would be refused with."""
     _loadable(study)
     if out is None or not (out.exists() or out.is_symlink()) or is_empty_directory(out):
-        return [ArmStatus(arm.name, 0, 0) for arm in study.arms]
+        return StudyCheck(tuple(ArmStatus(arm.name, 0, 0) for arm in study.arms), held=False, running=False)
     if not (out / STUDY_MANIFEST).is_file():
         raise StudyError(f"{out} {_not_a_study(out)}")
-    directory = _verified(study, out, write=False)
-    statuses = []
-    for arm in study.arms:
-        held = directory.arms.get(arm.name)
-        runs = held.config.runs if held is not None else 0
-        finished = sum(directory.finished(Task(arm.name, run)) for run in range(runs))
-        statuses.append(ArmStatus(arm.name, runs, finished))
-    return statuses
+    try:
+        directory = _verified(study, out, write=False)
+        statuses = []
+        for arm in study.arms:
+            held = directory.arms.get(arm.name)
+            runs = held.config.runs if held is not None else 0
+            finished = sum(directory.finished(Task(arm.name, run)) for run in range(runs))
+            statuses.append(ArmStatus(arm.name, runs, finished))
+    except OSError as error:
+        raise StudyError(f"cannot read {error.filename or out}: {error.strerror or error}") from None
+    return StudyCheck(tuple(statuses), held=True, running=DirectoryLock.held(out))
 
 
 def _loadable(study: Study) -> None:

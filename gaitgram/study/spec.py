@@ -44,7 +44,6 @@ from typing import Any
 
 from gaitgram.diagnostics import TextEdit
 from gaitgram.evolution.config import (
-    NESTED,
     ConfigError,
     RunConfig,
     config_from_mapping,
@@ -161,14 +160,23 @@ class _Source:
 
 
 def _merged(*layers: Mapping[str, Any]) -> dict[str, Any]:
-    """Each layer over the last; the settings tables key by key, so that an arm's
-    ``backend_settings = { body = "pony" }`` keeps the study's ``[settings.backend_settings]``."""
+    """Each layer over the last. The backend's settings are merged key by key at every depth (one
+    backend scores every arm): an arm's ``backend_settings = { body = "pony" }`` keeps the study's
+    weights, and its ``weights = { energy = 0.1 }`` the study's other weights. A strategy's settings
+    belong to that strategy and are replaced whole."""
     merged: dict[str, Any] = {}
     for layer in layers:
         for key, value in layer.items():
-            below = merged.get(key)
-            both = key in NESTED and isinstance(below, Mapping) and isinstance(value, Mapping)
-            merged[key] = {**below, **value} if both else value
+            merged[key] = _deep(merged[key], value) if key == "backend_settings" and key in merged else value
+    return merged
+
+
+def _deep(below: Any, above: Any) -> Any:
+    if not (isinstance(below, Mapping) and isinstance(above, Mapping)):
+        return above  # not two tables: the upper layer's value, refused later if it is no table
+    merged = dict(below)
+    for key, value in above.items():
+        merged[key] = _deep(below[key], value) if key in below else value
     return merged
 
 

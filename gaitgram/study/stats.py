@@ -249,15 +249,22 @@ class SpreadComparison:
 
 def compare_spreads(groups: Mapping[str, Sequence[float]]) -> SpreadComparison:
     """Whether the groups spread differently: Brown-Forsythe over all of them, and for each pair
-    in order, Holm-adjusted. Groups of fewer than two values, or of none that differ from their
-    median, have no spread to test (nan)."""
+    in order, Holm-adjusted. A test is nan (and left out of Holm) where some group has fewer than
+    two values, or where within every group the deviations from the median are equal (two runs
+    an arm always are; so are runs ending on two plateaus): the statistic divides by their spread,
+    and rounding alone would make it huge."""
     from scipy import stats
+
+    def equal_deviations(x: np.ndarray) -> bool:
+        deviations = np.abs(x - np.median(x))
+        scale = max(float(np.max(np.abs(x))), 1e-300)
+        return bool(np.ptp(deviations) <= 1e-9 * scale)
 
     def test(samples: list[np.ndarray]) -> tuple[float, float]:
         if len(samples) < 2 or any(len(x) < 2 for x in samples):
             return math.nan, math.nan
-        if all(np.ptp(np.abs(x - np.median(x))) == 0 for x in samples):
-            return math.nan, math.nan  # every deviation equal: scipy divides by zero
+        if all(equal_deviations(x) for x in samples):
+            return math.nan, math.nan
         result = stats.levene(*samples, center="median")
         return float(result.statistic), float(result.pvalue)
 

@@ -189,6 +189,37 @@ def test_a_bad_config_is_refused_before_a_run_directory_exists(
 
 
 @pytest.mark.parametrize(
+    ("written", "flags", "message"),
+    [  # a check of two keys blames the flag where a flag gave one
+        ("elite = 7\n", ["--population", "7"], "error: --population: elite: 7 elites leave no room"),
+        ("elite = 7\npopulation = 7\n", [], "run.toml:2:1: elite: 7 elites leave no room"),
+    ],
+)
+def test_an_error_names_the_flag_or_the_line_that_caused_it(
+    tmp_path: Path, written: str, flags: list[str], message: str
+) -> None:
+    grammar = Path(__file__).resolve().parents[2] / "grammars" / "sine-walk.gg"
+    config = tmp_path / "run.toml"
+    config.write_text("generations = 1\n" + written)
+    result = evolve(str(grammar), "-c", str(config), *flags, "-o", str(tmp_path / "run"))
+    assert result.exit_code == 2
+    assert message in result.stderr
+    assert "Traceback" not in result.stderr
+    assert not (tmp_path / "run").exists()
+
+
+def test_a_settings_table_that_is_no_table_is_refused_though_set_adds_to_it(tmp_path: Path) -> None:
+    grammar = Path(__file__).resolve().parents[2] / "grammars" / "sine-walk.gg"
+    config = tmp_path / "run.toml"
+    config.write_text("backend_settings = 3\n")
+    args = ["evaluate", str(grammar), "-c", str(config), "--set", "froude=0.5", "--genome", "1,2,3"]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 2
+    assert "run.toml:1:1: backend_settings: must be a table" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+@pytest.mark.parametrize(
     ("settings", "where", "message"),
     [
         ("[backend_settings]\nfrode = 0.4\n", ":6:1", "frode: unknown mujoco-horse setting; did you mean"),

@@ -309,7 +309,7 @@ def test_a_report_over_the_first_runs_measures_their_best_walk_apart(
     whole = (arm / BEST_WALK).read_bytes()
     asked: list[int] = []
 
-    def recorded(settings: dict[str, Any], batch: Any) -> list[dict[str, Any]]:
+    def recorded(settings: dict[str, Any], batch: Any, *_: object) -> list[dict[str, Any]]:
         asked.append(len(batch))
         return [{"gait": "falls", "detail": None, "realism": None, "trials": []}] * len(batch)
 

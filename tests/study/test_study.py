@@ -232,6 +232,9 @@ def test_spreads_are_compared_by_brown_forsythe_with_holm() -> None:
     flat = compare_spreads({"a": [1.0, 1.0, 1.0], "b": [2.0, 2.0, 2.0]})  # no spread to test
     assert np.isnan(flat.p_value)
     assert np.isnan(flat.pairs[0].p_holm)
+    # Two runs an arm, or runs on two plateaus: deviations equal but for rounding, not a finding.
+    for pair in ({"a": [0.1, 0.4], "b": [0.3, 0.7]}, {"a": [0.1, 0.1, 0.4, 0.4], "b": [0.3, 0.3, 0.7, 0.7]}):
+        assert np.isnan(compare_spreads(pair).p_value)
 
 
 def test_paired_playings_are_compared_run_by_run() -> None:

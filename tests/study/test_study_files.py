@@ -5,6 +5,7 @@ Nothing is made when a study is refused."""
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 import pytest
@@ -15,6 +16,7 @@ from conftest import CURVE_STUDY as STUDY
 from conftest import CURVE_TARGETS_TOML
 from gaitgram.cli import app
 from gaitgram.evolution.rundir import RunDirectory
+from gaitgram.fileio import DirectoryLock
 
 runner = CliRunner()
 
@@ -187,6 +189,13 @@ def test_an_error_the_flags_cause_names_the_flag(tmp_path: Path) -> None:
             "grammar",
         ),
         ('grammar = "g.gg"\n[arm', 'grammar = "h.gg"\n[arm', "s.toml:22:1: arm 'mutant': grammar", "h.gg"),
+        (
+            'grammar = "g.gg"\n[arm',
+            'grammar = "g\\u0000.gg"\n[arm',
+            "s.toml:22:1: arm 'mutant': grammar",
+            "NUL",
+        ),
+        ("seed = 7", 'seed = 7\nconfig = "c\\u0000.toml"', "s.toml:4:1: config", "NUL"),
         ("mutation = 0.2", "mutation = 2.0", "s.toml:24:1: arm 'mutant': mutation", "[0, 1]"),
         ("mutation = 0.2", "mutation = 0.2\nelite = 12", "s.toml:25:1: arm 'mutant': elite", "no room"),
         ("mutation = 0.2", "mutation = 0.2\nstrategy = 3", "s.toml:25:1: arm 'mutant': strategy", "not 3"),
@@ -218,9 +227,12 @@ def test_an_error_in_an_arms_config_file_names_that_files_line(tmp_path: Path) -
     assert "arm.toml:3:1: arm 'mutant': crossover: must be in [0, 1], not 1.5" in error
 
 
-def test_an_arms_settings_tables_add_to_the_studys(tmp_path: Path) -> None:
-    """``backend_settings`` of an arm add keys to the study's ``[settings.backend_settings]``, as
-    ``--set`` adds to a run.toml's: a pony arm keeps the study's weights rather than losing them."""
+def test_an_arms_backend_settings_add_to_the_studys_and_its_strategy_settings_replace_them(
+    tmp_path: Path,
+) -> None:
+    """``backend_settings`` of an arm add to the study's key by key at every depth: a pony arm keeps
+    the study's weights, and an arm that changes one weight keeps the others. A strategy's settings
+    belong to its strategy: an arm's replace the study's (a GE arm need not inherit NSGA-II's)."""
     from gaitgram.study.spec import load_study
 
     grammar = Path(__file__).resolve().parents[2] / "grammars" / "hybrid.gg"
@@ -228,18 +240,31 @@ def test_an_arms_settings_tables_add_to_the_studys(tmp_path: Path) -> None:
     path.write_text(
         "[settings.backend_settings]\n"
         "weights = { velocity = 1.0, duty_factor = 1.0, stride = 1.0, frequency = 0.0, energy = 1.0 }\n"
+        "[settings.strategy_settings]\n"
+        'objectives = ["velocity", "duty_factor"]\n'
         "[[arm]]\n"
         'name = "horse"\n'
+        'strategy = "nsga2"\n'
         f"grammar = {str(grammar)!r}\n"
         "[[arm]]\n"
         'name = "pony"\n'
+        'strategy = "nsga2"\n'
         f"grammar = {str(grammar)!r}\n"
-        'settings = { backend_settings = { body = "pony" } }\n'
+        'settings = { backend_settings = { body = "pony", weights = { energy = 0.1 } } }\n'
+        "[[arm]]\n"
+        'name = "ge"\n'
+        f"grammar = {str(grammar)!r}\n"
+        "settings = { strategy_settings = {} }\n"
     )
-    horse, pony = load_study(path).arms
+    horse, pony, ge = load_study(path).arms
     assert pony.config.backend_settings["body"] == "pony"
-    assert pony.config.backend_settings["weights"] == horse.config.backend_settings["weights"]
     assert horse.config.backend_settings["weights"]["energy"] == 1.0
+    assert pony.config.backend_settings["weights"] == {
+        **horse.config.backend_settings["weights"],
+        "energy": 0.1,
+    }
+    assert pony.config.strategy_settings["objectives"] == ["velocity", "duty_factor"]
+    assert ge.config.strategy_settings == {}
 
 
 def tree(path: Path) -> dict[str, bytes]:
@@ -264,9 +289,12 @@ def test_check_prints_the_plan_and_progress_and_writes_nothing(tmp_path: Path) -
     partial = runner.invoke(app, ["study", str(tmp_path / "s.toml"), "-o", str(out), "--check"])
     assert partial.exit_code == 0, partial.output
     assert "2/3" in partial.stdout
-    assert "4 of 6 runs finished; it grows from 2 to 3 runs per arm" in " ".join(partial.stdout.split())
+    assert "4 of 6 runs finished; running it grows arms from 2 to 3 runs; continue with" in partial.stdout
     done = runner.invoke(app, ["study", str(tmp_path / "s.toml"), "-o", str(out), "--check", "--runs", "2"])
-    assert "holds this study, complete (4 runs)" in " ".join(done.stdout.split())
+    assert "holds this study: 4 of 4 runs finished, complete" in done.stdout
+    with DirectoryLock(out):  # as a running study holds it
+        running = runner.invoke(app, ["study", str(tmp_path / "s.toml"), "-o", str(out), "--check"])
+    assert "another gaitgram is running it now" in running.stdout
     other = runner.invoke(
         app, ["study", str(tmp_path / "s.toml"), "-o", str(out), "--check", "--generations", "3"]
     )
@@ -274,6 +302,10 @@ def test_check_prints_the_plan_and_progress_and_writes_nothing(tmp_path: Path) -
     assert "arm 'plain' differs" in other.stderr
     assert "generations: 2 -> 3" in other.stderr
     assert tree(out) == before  # nothing grown, locked or rewritten
+    shutil.rmtree(out / "arms" / "mutant")  # an arm deleted to run it again from scratch
+    again = runner.invoke(app, ["study", str(tmp_path / "s.toml"), "-o", str(out), "--check"])
+    assert "0/3" in again.stdout
+    assert "mutant start from scratch (no directory)" in again.stdout
 
 
 def test_a_study_runs_only_with_a_directory(tmp_path: Path) -> None:
