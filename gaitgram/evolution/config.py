@@ -267,7 +267,9 @@ def _toml_keys(text: str) -> Iterator[tuple[int, int, str, tuple[str, ...]]]:
         while i < len(line):
             c = line[i]
             if quote:
-                if line.startswith(quote, i) and (quote == "'" * len(quote) or line[i - 1 : i] != "\\"):
+                if c == "\\" and quote[0] == '"':
+                    i += 1  # a basic string's escape: the next character is not its end
+                elif line.startswith(quote, i):
                     i += len(quote) - 1
                     quote = ""
             elif line.startswith(('"""', "'''"), i):
@@ -299,10 +301,15 @@ def _head(line: str) -> tuple[str, tuple[str, ...]]:
 
 def _unquoted(text: str, char: str) -> int:
     """The index of the first ``char`` outside quotes in ``text``; -1 if none."""
-    quote = ""
+    quote, escaped = "", False
     for i, c in enumerate(text):
         if quote:
-            quote = "" if c == quote else quote
+            if escaped:
+                escaped = False
+            elif c == "\\" and quote == '"':
+                escaped = True
+            elif c == quote:
+                quote = ""
         elif c in "\"'":
             quote = c
         elif c == char:
@@ -311,23 +318,44 @@ def _unquoted(text: str, char: str) -> int:
 
 
 def _parts(key: str) -> tuple[str, ...]:
-    """A TOML key as written (``a . "b.c"``) as its parts (``a``, ``b.c``)."""
-    parts, current, quote = [], "", ""
-    for c in key:
-        if quote:
-            if c == quote:
-                quote = ""
-            else:
-                current += c
-        elif c in "\"'":
-            quote = c
-        elif c == ".":
-            parts.append(current.strip())
-            current = ""
+    """A TOML key as written (``a . "b.c"``) as its parts (``a``, ``b.c``), escapes read."""
+    parts: list[str] = []
+    rest = key.strip()
+    while rest:
+        if rest[0] in "\"'":
+            end = _closing(rest)
+            if end < 0:
+                return ()
+            quoted = rest[: end + 1]
+            try:
+                parts.append(tomllib.loads(f"k = {quoted}")["k"])
+            except tomllib.TOMLDecodeError:
+                return ()
+            rest = rest[end + 1 :].strip()
         else:
-            current += c
-    parts.append(current.strip())
-    return tuple(parts) if all(parts) else ()
+            bare, _, _ = rest.partition(".")
+            parts.append(bare.strip())
+            rest = rest[len(bare) :].strip()
+        if rest.startswith("."):
+            rest = rest[1:].strip()
+            if not rest:
+                return ()
+        elif rest:
+            return ()  # not a key
+    return tuple(parts) if parts and all(parts) else ()
+
+
+def _closing(text: str) -> int:
+    """The index of the quote that closes the one ``text`` starts with; -1 if none."""
+    quote, i = text[0], 1
+    while i < len(text):
+        if text[i] == "\\" and quote == '"':
+            i += 2
+            continue
+        if text[i] == quote:
+            return i
+        i += 1
+    return -1
 
 
 def read_toml(path: Path) -> dict[str, Any]:

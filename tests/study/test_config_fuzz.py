@@ -122,3 +122,71 @@ def test_a_mangled_run_toml_loads_or_is_refused_with_its_place(text: str) -> Non
     if message is not None:
         assert message.strip()
         located_in(message, path, text)
+
+
+NAMES = st.text(alphabet="abcdefghij_-#.= \"'[]", min_size=1, max_size=6).filter(lambda k: k.strip() == k)
+SCALARS = st.one_of(
+    st.integers(-5, 5),
+    st.booleans(),
+    st.text(alphabet='ab=#[]"\n', max_size=6),  # strings holding what looks like TOML
+)
+
+
+@st.composite
+def documents(draw: st.DrawFn) -> tuple[str, dict[tuple[str, ...], int]]:
+    """A TOML document written as a run.toml is (top-level keys, then [tables], values of every
+    kind including strings that look like keys and headers, and multi-line arrays), and the line
+    each key path is written on."""
+    from gaitgram.evolution.config import _key, _toml_value
+
+    lines: list[str] = []
+    where: dict[tuple[str, ...], int] = {}
+
+    def write(path: tuple[str, ...], value: object) -> None:
+        if draw(st.booleans()) and isinstance(value, list):  # an array over several lines
+            lines.append(f"{_key(path[-1])} = [")
+            lines.extend(f"  {_toml_value(v)}," for v in value)
+            lines.append("]")
+            where[path] = len(lines) - len(value) - 1
+        else:
+            lines.append(f"{_key(path[-1])} = {_toml_value(value)}")
+            where[path] = len(lines)
+
+    values = st.one_of(SCALARS, st.lists(SCALARS, max_size=3))
+    for name, value in draw(st.dictionaries(NAMES, values, max_size=3)).items():
+        write((name,), value)
+    for table, keys in draw(
+        st.dictionaries(NAMES, st.dictionaries(NAMES, values, max_size=3), max_size=3)
+    ).items():
+        if (table,) in where:
+            continue
+        lines.append(f"[{_key(table)}]")
+        where[(table,)] = len(lines)
+        for name, value in keys.items():
+            write((table, name), value)
+    return "\n".join(lines) + "\n", where
+
+
+@FUZZ
+@given(documents())
+def test_every_key_is_placed_on_the_line_that_writes_it(
+    document: tuple[str, dict[tuple[str, ...], int]],
+) -> None:
+    """key_location on documents gaitgram's own TOML writer makes: whatever the keys and values
+    hold (quotes, '#', '=', brackets, new lines in strings), each key is found on its line."""
+    import tomllib
+
+    from gaitgram.evolution.config import key_location
+
+    text, where = document
+    parsed = tomllib.loads(text)  # the document is TOML, and says what was written
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "run.toml"
+        path.write_text(text)
+        for keys, line in where.items():
+            if any("." in key for key in keys):
+                continue  # dotted names are how a place is asked for; a key holding a dot is not asked
+            table = parsed
+            for key in keys:
+                table = table[key]
+            assert key_location(path, "", ".".join(keys)) == f"{path}:{line}:1", (keys, text)
