@@ -4,6 +4,7 @@ generated from the code: the CLI reference from the commands, the diagnostics ca
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import subprocess
@@ -92,6 +93,10 @@ def test_the_site_builds_strictly_with_every_page(site: Path) -> None:
     assert "Table 5" in page(site, "results")
     assert not list(site.rglob("study.json"))  # study outputs are not published
     assert "NSGA-II" in page(site, "results")
+    strategies = json.loads((ROOT / "docs" / "results" / "strategies" / "summary.json").read_text())
+    runs = strategies["arms"][0]["runs"]  # each study's design, read from its report
+    design = f"{len(strategies['arms'])} arms x {runs} runs, fitness r4, walk criterion v2"
+    assert design in page(site, "results")
 
 
 def test_the_site_cli_reference_is_generated(site: Path) -> None:

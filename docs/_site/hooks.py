@@ -12,6 +12,7 @@ when ``repo_url`` is set, and are shown as their path otherwise.
 
 from __future__ import annotations
 
+import json
 import posixpath
 import re
 from pathlib import Path
@@ -46,13 +47,29 @@ def _results_index(config: MkDocsConfig) -> str:
     results = Path(config.docs_dir, "results")
     for readme in sorted(results.glob("*/README.md")):
         title = readme.read_text(encoding="utf-8").splitlines()[0].lstrip("# ").strip()
-        lines.append(f"- [{title}]({readme.parent.name}/README.md)")
+        lines.append(f"- [{title}]({readme.parent.name}/README.md){_design(readme.parent)}")
     for older in sorted(results.glob("revision-*"), reverse=True):
         lines += ["", f"Superseded, scored under fitness {older.name.replace('-', ' ')}:", ""]
         for readme in sorted(older.glob("*/README.md")):
             title = readme.read_text(encoding="utf-8").splitlines()[0].lstrip("# ").strip()
             lines.append(f"- [{title}]({older.name}/{readme.parent.name}/README.md)")
     return "\n".join(lines) + "\n"
+
+
+def _design(study: Path) -> str:
+    """``: 4 arms x 30 runs, fitness r4, walk criterion v2`` from a report's summary.json (what
+    the report read: its arms' runs), or nothing for a study without one."""
+    try:
+        summary = json.loads((study / "summary.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return ""
+    runs = sorted({arm["runs"] for arm in summary["arms"]})
+    revision = re.search(r"fitness r\d+", summary.get("backend_version", ""))
+    verdict = summary.get("verdict") or {}
+    said = [f"{len(summary['arms'])} arms x {'-'.join(map(str, runs))} runs"]
+    said += [revision[0]] if revision else []
+    said += [f"walk criterion {verdict['version']}"] if verdict.get("version") else []
+    return ": " + ", ".join(said)
 
 
 def on_page_markdown(markdown: str, page: Page, config: MkDocsConfig, files: Files, **_: Any) -> str:
