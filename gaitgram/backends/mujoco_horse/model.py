@@ -68,11 +68,18 @@ FLAT_START = 1.0  # m ahead of the standing horse, and all of it behind
 BUMP_LENGTH = 60.0  # m of floor ahead: more than the longest walk over a horizon
 
 
-@cache
-def bumpy_model(body: str | None, seed: int) -> mujoco.MjModel:
+def bumpy_model(body: str | None, seed: int, scale: float = 1.0) -> mujoco.MjModel:
     """A body (None: the horse) on a floor of random bumps drawn from ``seed``, flat where it
     stands and just ahead: the robustness trial's floors, and the ones a fitness scoring bumps
-    (``bump_floors``) plays gaits on. Compiled once per process; callers must not change it."""
+    (``bump_floors``) plays gaits on. ``scale`` scales the whole floor (the same turf, its bumps,
+    cells and flat start ``scale`` times as large: 1, the trial's turf on every body; a body's
+    length scale, turf as uneven for it as the trial's is for the horse). Compiled once per
+    process; callers must not change it."""
+    return _bumpy_model(body, seed, float(scale))
+
+
+@cache
+def _bumpy_model(body: str | None, seed: int, scale: float) -> mujoco.MjModel:
     spec = master_spec(body)
     rng = np.random.default_rng(seed)
     behind = 10.0  # m of floor behind the standing horse
@@ -81,12 +88,13 @@ def bumpy_model(body: str | None, seed: int) -> mujoco.MjModel:
     centre = half_length - behind
     x = centre + np.linspace(-half_length, half_length, ncol)
     heights = rng.uniform(0.0, 1.0, size=(nrow, ncol))
-    heights[:, x < FLAT_START] = 0.0
+    heights[:, x < FLAT_START] = 0.0  # the same turf at every scale, then scaled whole:
+    half_length, half_width, centre = half_length * scale, half_width * scale, centre * scale
     heights[0, -1] = 1.0  # the scale is the bumps' full height, whatever the draw
     field = spec.add_hfield()
     field.name = "bumps"
     field.nrow, field.ncol = nrow, ncol
-    field.size = [half_length, half_width, BUMP_HEIGHT, 0.1]
+    field.size = [half_length, half_width, BUMP_HEIGHT * scale, 0.1]
     field.userdata = heights.ravel().tolist()
     floor = spec.geom("floor")
     floor.type = mujoco.mjtGeom.mjGEOM_HFIELD

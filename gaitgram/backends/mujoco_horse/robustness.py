@@ -88,16 +88,21 @@ def disturbed(
     batch: MotionBatch,
     disturbance: str,
     weights: Mapping[str, float] | None = None,
+    *,
+    bump_scale: float = 1.0,
 ) -> list[Trial]:
     """Every gait of ``batch`` played to the horizon under ``disturbance`` (a name in
-    :data:`DISTURBANCES`), with the backend settings of the run it came from."""
+    :data:`DISTURBANCES`), with the backend settings of the run it came from. ``bump_scale``
+    sizes the bumps (:func:`~gaitgram.backends.mujoco_horse.model.bumpy_model`; the trial's, and
+    every kept assessment's, are 1)."""
     names = [d.name for d in DISTURBANCES]
     if disturbance not in names:
         raise ValueError(f"no disturbance named {disturbance!r}; known: {', '.join(names)}")
     horse = HorseSettings.from_mapping(settings)
     if disturbance != "bumps":
         return _played(horse, batch, disturbance, None, weights)
-    floors = [_played(horse, batch, disturbance, bumpy_model(horse.body, s), weights) for s in BUMP_SEEDS]
+    models = [bumpy_model(horse.body, seed, bump_scale) for seed in BUMP_SEEDS]
+    floors = [_played(horse, batch, disturbance, model, weights) for model in models]
     return [_on_every_floor(disturbance, [floor[g] for floor in floors]) for g in range(len(batch))]
 
 
