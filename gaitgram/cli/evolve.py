@@ -21,7 +21,6 @@ from gaitgram.evolution.config import (
     NESTED,
     ConfigError,
     RunConfig,
-    key_location,
     load_config,
     with_overrides,
 )
@@ -35,6 +34,7 @@ from gaitgram.language.source import SourceError, read_source
 from gaitgram.pipeline import Pipeline, PipelineError
 from gaitgram.strategies.api import GenerationStats, StrategyError
 from gaitgram.strategies.registry import load_strategy, run_pipeline
+from gaitgram.tomlplaces import key_location
 
 #: What makes a run refused before it starts (exit 2).
 _INPUT_ERRORS = (ConfigError, PipelineError, RunDirectoryError, CheckpointError, TransferError)

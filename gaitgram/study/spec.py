@@ -47,7 +47,6 @@ from gaitgram.evolution.config import (
     ConfigError,
     RunConfig,
     config_from_mapping,
-    key_location,
     read_toml,
 )
 from gaitgram.evolution.rundir import build_pipeline
@@ -57,6 +56,7 @@ from gaitgram.language.edits import apply_edits
 from gaitgram.language.source import SourceError, SourceText, read_source
 from gaitgram.pipeline import Pipeline, PipelineError
 from gaitgram.strategies.registry import strategy_names
+from gaitgram.tomlplaces import key_location
 
 STUDY_KEYS = ("title", "runs", "seed", "config", "settings", "arm")
 ARM_KEYS = ("name", "grammar", "strategy", "config", "settings", "defines")

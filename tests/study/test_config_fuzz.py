@@ -176,7 +176,7 @@ def test_every_key_is_placed_on_the_line_that_writes_it(
     hold (quotes, '#', '=', brackets, new lines in strings), each key is found on its line."""
     import tomllib
 
-    from gaitgram.evolution.config import key_location
+    from gaitgram.tomlplaces import key_location
 
     text, where = document
     parsed = tomllib.loads(text)  # the document is TOML, and says what was written
