@@ -4,9 +4,10 @@ gaits hold on bumps scaled to the body as they hold on the horse's 2 cm?
 The robustness trial plays every body on the same turf: bumps up to 2 cm in 10 cm cells. A Shetland
 (hip 0.69 m) meets them as a horse would meet 3.3 cm ones. Here each run's best gait of each arm of
 the committed retarget study (docs/results/retarget/runs) is played on the trial's ten floors (seeds
-26-35) scaled whole by the body's length scale (its standing hip height over the horse's: the same
-turf, its bumps, cells and flat start that many times as large, as dynamic similarity scales a
-body), and the floors it holds on are set beside
+26-35) with turf scaled by the body's length scale (its standing hip height over the horse's: bumps,
+cells and the flat start that many times the trial's, as dynamic similarity scales a body; the
+floor's extent is the trial's, so each is another sample of such turf), and the floors it holds
+on are set beside
 the ones it held on the trial's turf (its kept ``assessment.json``), paired by run (Wilcoxon
 signed-rank). Not a speed benchmark: a reproducible measurement (docs/results/retarget/README.md,
 "What the transfer does not change").

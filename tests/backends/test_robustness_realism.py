@@ -90,19 +90,24 @@ def test_each_bumpy_floor_is_flat_where_the_horse_stands_and_bumped_ahead_its_ow
     assert all(not np.array_equal(fields[0], other) for other in fields[1:])  # ten turfs, not one
 
 
-def test_a_scaled_floor_is_the_same_turf_scaled_whole() -> None:
-    """``bumpy_model(body, seed, scale)``: the trial's turf at scale 1 (the very model), and at a
-    body's length scale the same heights on a floor whose bumps, cells and flat start are that many
-    times as large (benchmarks/bench_scaled_bumps.py)."""
+def test_a_scaled_floor_has_bumps_and_cells_scaled_and_the_trials_extent() -> None:
+    """``bumpy_model(body, seed, scale)``: the trial's floor at scale 1 (the very model); at a body's
+    length scale, bumps, cells and the flat start that many times the trial's over the same extent
+    of floor (benchmarks/bench_scaled_bumps.py)."""
     assert bumpy_model(None, 26, 1.0) is bumpy_model(None, 26)
-    trial, scaled = bumpy_model("shetland", 26), bumpy_model("shetland", 26, 0.6)
-    assert np.array_equal(trial.hfield_data, scaled.hfield_data)
-    assert scaled.hfield_size[0][:3] == pytest.approx(0.6 * trial.hfield_size[0][:3])
-    assert scaled.geom_pos[0][0] == pytest.approx(0.6 * trial.geom_pos[0][0])
+    trial, scaled = bumpy_model("shetland", 26), bumpy_model("shetland", 26, 0.5)
+    assert scaled.hfield_size[0][2] == pytest.approx(0.5 * trial.hfield_size[0][2])  # bump height
+    assert list(scaled.hfield_size[0][:2]) == list(trial.hfield_size[0][:2])  # the same floor
+    assert scaled.geom_pos[0][0] == trial.geom_pos[0][0]
+    assert (scaled.hfield_ncol[0] - 1, scaled.hfield_nrow[0] - 1) == (
+        2 * (trial.hfield_ncol[0] - 1),
+        2 * (trial.hfield_nrow[0] - 1),
+    )  # cells half as wide
     field = scaled.hfield_data.reshape(scaled.hfield_nrow[0], scaled.hfield_ncol[0])
     half = scaled.hfield_size[0][0]
     x = scaled.geom_pos[0][0] + np.linspace(-half, half, field.shape[1])
-    assert not field[:, x < 0.6 * FLAT_START - 1e-9].any()
+    assert not field[:, x < 0.5 * FLAT_START].any()
+    assert field[:, (x > 0.5 * FLAT_START + 0.1) & (x < FLAT_START)].any()  # bumps begin sooner
 
 
 def test_a_gait_holds_the_bumps_only_on_every_floor_and_says_where_it_did_not() -> None:

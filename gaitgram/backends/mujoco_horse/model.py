@@ -71,10 +71,11 @@ BUMP_LENGTH = 60.0  # m of floor ahead: more than the longest walk over a horizo
 def bumpy_model(body: str | None, seed: int, scale: float = 1.0) -> mujoco.MjModel:
     """A body (None: the horse) on a floor of random bumps drawn from ``seed``, flat where it
     stands and just ahead: the robustness trial's floors, and the ones a fitness scoring bumps
-    (``bump_floors``) plays gaits on. ``scale`` scales the whole floor (the same turf, its bumps,
-    cells and flat start ``scale`` times as large: 1, the trial's turf on every body; a body's
-    length scale, turf as uneven for it as the trial's is for the horse). Compiled once per
-    process; callers must not change it."""
+    (``bump_floors``) plays gaits on. ``scale`` sizes the turf: bumps, cells and the flat start
+    ``scale`` times the trial's (1: the trial's floors, the very models; a body's length scale:
+    turf as uneven for it as the trial's is for the horse). The floor's extent does not scale (a
+    smaller floor would end under a walk), so another scale draws another sample of such turf.
+    Compiled once per process; callers must not change it."""
     return _bumpy_model(body, seed, float(scale))
 
 
@@ -83,13 +84,13 @@ def _bumpy_model(body: str | None, seed: int, scale: float) -> mujoco.MjModel:
     spec = master_spec(body)
     rng = np.random.default_rng(seed)
     behind = 10.0  # m of floor behind the standing horse
+    cell = BUMP_CELL * scale
     half_length, half_width = (BUMP_LENGTH + behind) / 2, 2.0
-    ncol, nrow = round(2 * half_length / BUMP_CELL) + 1, round(2 * half_width / BUMP_CELL) + 1
+    ncol, nrow = round(2 * half_length / cell) + 1, round(2 * half_width / cell) + 1
     centre = half_length - behind
     x = centre + np.linspace(-half_length, half_length, ncol)
     heights = rng.uniform(0.0, 1.0, size=(nrow, ncol))
-    heights[:, x < FLAT_START] = 0.0  # the same turf at every scale, then scaled whole:
-    half_length, half_width, centre = half_length * scale, half_width * scale, centre * scale
+    heights[:, x < FLAT_START * scale] = 0.0
     heights[0, -1] = 1.0  # the scale is the bumps' full height, whatever the draw
     field = spec.add_hfield()
     field.name = "bumps"
