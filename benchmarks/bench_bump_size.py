@@ -13,14 +13,13 @@ benchmark: a reproducible measurement (docs/results/strategies/README.md).
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 
+from benchmarks._bumps import kept_best_gaits
 from gaitgram.backends.mujoco_horse.model import BUMP_HEIGHT
 from gaitgram.backends.mujoco_horse.robustness import disturbed
-from gaitgram.evolution.rundir import RunDirectory
 
 ROOT = Path(__file__).resolve().parents[1]
 ARM = ROOT / "docs" / "results" / "strategies" / "runs" / "arms" / "ge-hybrid"
@@ -28,17 +27,8 @@ SCALES = (0.25, 0.5, 0.75)
 
 
 def main() -> None:
-    pipeline = RunDirectory.open(ARM).pipeline
-    settings = dict(pipeline.config.backend_settings)
-    kept, genomes = [], []
-    for run in range(pipeline.config.runs):
-        best = json.loads((ARM / f"run-{run:03d}" / "best.json").read_text())
-        trials = json.loads((ARM / f"run-{run:03d}" / "assessment.json").read_text())["trials"]
-        bumps = next(t for t in trials if t["disturbance"] == "bumps")
-        kept.append(bumps["held"] / bumps["floors"])
-        genomes.append(tuple(best["genome"]))
-    batch = pipeline.motion(pipeline.map(genomes), pipeline.config.generations)
-    print(f"GE-hybrid's {len(genomes)} best gaits on ten floors, the turf scaled")
+    settings, kept, batch = kept_best_gaits(ARM)
+    print(f"GE-hybrid's {len(kept)} best gaits on ten floors, the turf scaled")
     print(f"{'scale':>6} {'bumps cm':>9} {'floors held':>12} {'hold all ten':>13}")
     for scale in SCALES:
         held = [t.held / t.floors for t in disturbed(settings, batch, "bumps", bump_scale=scale)]

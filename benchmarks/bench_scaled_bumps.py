@@ -15,15 +15,14 @@ signed-rank). Not a speed benchmark: a reproducible measurement (docs/results/re
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 from scipy import stats
 
+from benchmarks._bumps import kept_best_gaits
 from gaitgram.backends.mujoco_horse.model import BUMP_HEIGHT, horse_layout
 from gaitgram.backends.mujoco_horse.robustness import disturbed
-from gaitgram.evolution.rundir import RunDirectory
 
 ROOT = Path(__file__).resolve().parents[1]
 STUDY = ROOT / "docs" / "results" / "retarget" / "runs" / "arms"
@@ -38,18 +37,8 @@ def main() -> None:
     widths = {"scale": 6, "bumps cm": 9, "gaits": 6, "trial": 6, "scaled": 7, "Wilcoxon p": 11}
     print(f"{'arm':<20} " + " ".join(f"{name:>{width}}" for name, width in widths.items()))
     for arm in sorted(STUDY.iterdir()):
-        directory = RunDirectory.open(arm)
-        pipeline = directory.pipeline
-        settings = dict(pipeline.config.backend_settings)
+        settings, kept, batch = kept_best_gaits(arm)
         scale = horse_layout(settings.get("body")).hip_height / horse
-        kept, genomes = [], []
-        for run in range(pipeline.config.runs):
-            best = json.loads((arm / f"run-{run:03d}" / "best.json").read_text())
-            trials = json.loads((arm / f"run-{run:03d}" / "assessment.json").read_text())["trials"]
-            bumps = next(t for t in trials if t["disturbance"] == "bumps")
-            kept.append(bumps["held"] / bumps["floors"])
-            genomes.append(tuple(best["genome"]))
-        batch = pipeline.motion(pipeline.map(genomes), pipeline.config.generations)
         scaled = [t.held / t.floors for t in disturbed(settings, batch, "bumps", bump_scale=scale)]
         differs = any(a != b for a, b in zip(kept, scaled, strict=True))
         p = stats.wilcoxon(kept, scaled).pvalue if differs else 1.0
