@@ -49,12 +49,20 @@ from gaitgram.backends.registry import (
 from gaitgram.evolution.config import RunConfig
 from gaitgram.ge.mapper import Mapped, Mapper, MapperError, compile_mapper
 from gaitgram.language.model import Grammar
-from gaitgram.motion.gait import MotionBatch, motion_batch
+from gaitgram.motion.gait import MotionBatch, Sensors, motion_batch
 
 #: The backend of a grammar that names none and a config that names none.
 DEFAULT_BACKEND = "mujoco-horse"
 
 Genome = tuple[int, ...]
+
+
+def sensors_of(spec: BackendSpec) -> Sensors | None:
+    """A backend's sensors as the motion layer takes them (None: it declares none)."""
+    catalogue = spec.sensors
+    if catalogue is None or not len(catalogue):
+        return None
+    return Sensors(catalogue.names, catalogue.periodic, tuple(sorted(catalogue.nominal().items())))
 
 
 class PipelineError(ValueError):
@@ -180,7 +188,13 @@ class Pipeline:
             n_samples=self.config.samples,
             frozen=self.frozen_at(generation),
             frequency=self.frequency_limits,
+            sensors=self.sensors,
         )
+
+    @property
+    def sensors(self) -> Sensors | None:
+        """What the backend lets phenotypes read (None: it senses nothing)."""
+        return sensors_of(self.spec)
 
     @property
     def frequency_limits(self) -> tuple[float, float] | None:

@@ -18,6 +18,7 @@ from typing import Any
 
 from gaitgram.backends.api import SettingsError, Verdict
 from gaitgram.backends.catalogue import JointCatalogue
+from gaitgram.backends.sensors import SensorCatalogue
 from gaitgram.plugins import PluginLoadError, PluginNotFound, Registry
 
 __all__ = [
@@ -94,6 +95,9 @@ class BackendSpec:
       score, once, for ``gaitgram report --assess`` to keep (``assessment.json``):
       ``mujoco-horse``'s realism beside real walks and its disturbance trials;
       None: nothing is measured beyond the score.
+    * ``sensors`` are what a closed-loop phenotype may read beside ``t``
+      (:mod:`~gaitgram.backends.sensors`, declared as data like the joints); None: the
+      backend plays open-loop curves only, and a grammar that reads a sensor is refused.
     """
 
     name: str
@@ -116,6 +120,7 @@ class BackendSpec:
     retarget: Callable[[Mapping[str, Any], Any, str, str], tuple[dict[str, Any], Any]] | None = None
     retarget_scalings: tuple[str, ...] = ()
     assess: Callable[[Mapping[str, Any], Any], list[dict[str, Any]]] | None = None
+    sensors: SensorCatalogue | None = None
 
     def checked_settings(self, settings: Mapping[str, Any]) -> dict[str, Any]:
         """``settings`` checked and normalised; :class:`SettingsError` names the bad key."""

@@ -66,6 +66,7 @@ def _curves(pipeline: Pipeline, best: Individual, generation: int) -> dict[str, 
         units=pipeline.grammar.units,
         n_samples=CURVE_SAMPLES,
         frozen=pipeline.frozen_at(generation),
+        sensors=pipeline.sensors,
     )
     if batch.problems[0] is not None:
         return dict.fromkeys(joints)

@@ -1,6 +1,6 @@
 """Compiling, the third stage: checked postfix nodes to a flat program for the stack machine.
 
-Subexpressions without ``t`` are folded to constants here, with float64 arithmetic that
+Subexpressions without ``t`` or a sensor are folded to constants here, with float64 arithmetic that
 gives exactly the bits the machine's numpy arrays would: Python's float ``+ - * /`` are
 the same IEEE 754 operations, and where a result is NaN (whose sign and payload Python
 and numpy may pick differently) or a function is applied, numpy computes it. A constant
@@ -29,6 +29,7 @@ class Op(IntEnum):
     BINARY = 3  # b = pop; top = f(top, b)
     BINARY_CONST = 4  # top = f(top, c)
     CONST_BINARY = 5  # top = f(c, top)
+    SENSOR = 6  # push a sensor's values (the name in the function's place)
 
 
 #: A division's span and its divisor's, ``(start, end, divisor start, divisor end)``: where a
@@ -36,8 +37,9 @@ class Op(IntEnum):
 Division = tuple[int, int, int, int]
 
 #: One step of the machine, ``(op, function, constant, division)``: a plain tuple, which the
-#: machine's loop unpacks cheaply. ``division`` is set on divisions only.
-Instruction = tuple[Op, Callable[..., Any] | None, float, Division | None]
+#: machine's loop unpacks cheaply. ``division`` is set on divisions only; SENSOR holds the
+#: sensor's name where the others hold a function.
+Instruction = tuple[Op, Callable[..., Any] | str | None, float, Division | None]
 
 
 @dataclass(frozen=True, slots=True)
@@ -45,12 +47,12 @@ class Program:
     """What the machine runs: its instructions, or (if the expression has no ``t``) its value."""
 
     instructions: tuple[Instruction, ...]
-    #: The value of an expression without ``t`` (folded here), else None.
+    #: The value of an expression without ``t`` or a sensor (folded here), else None.
     constant: float | None
 
 
 _NUMBER, _NAME, _UNARY, _BINARY = NodeKind.NUMBER, NodeKind.NAME, NodeKind.UNARY, NodeKind.BINARY
-_T, _PUSH, _UNARY_OP, _BINARY_OP, _BINARY_CONST, _CONST_BINARY = Op
+_T, _PUSH, _UNARY_OP, _BINARY_OP, _BINARY_CONST, _CONST_BINARY, _SENSOR = Op
 _FLOAT_OPS: dict[str, Callable[[float, float], float]] = {
     "+": operator.add,
     "-": operator.sub,
@@ -94,8 +96,11 @@ def compile_program(syntax: Syntax) -> Program:
             if value == VARIABLE:
                 emit((_T, None, 0.0, None))
                 push(_DYNAMIC)
-            else:
+            elif value in CONSTANTS:
                 push(CONSTANTS[value])  # type: ignore[index]
+            else:  # a sensor (the checker let it through)
+                emit((_SENSOR, value, 0.0, None))
+                push(_DYNAMIC)
         elif kind is _UNARY:
             if value == "-":
                 if stack[-1] is _DYNAMIC:

@@ -63,8 +63,9 @@ __all__ = [
 
 
 @lru_cache(maxsize=4096)
-def compile_motion(text: str) -> Motion | MotionError:
-    """Compile phenotype text to a :class:`Motion`, or say why it is not one.
+def compile_motion(text: str, sensors: frozenset[str] = frozenset()) -> Motion | MotionError:
+    """Compile phenotype text to a :class:`Motion`, or say why it is not one. ``sensors`` are the
+    names (a backend's sensors) a closed-loop phenotype may read beside ``t``.
 
     Never raises for any string. Results are cached: GE re-evaluates elites and
     duplicate phenotypes, and both results are immutable.
@@ -72,7 +73,7 @@ def compile_motion(text: str) -> Motion | MotionError:
     syntax = parse(text)
     if isinstance(syntax, MotionError):
         return syntax
-    problem = check(syntax)
+    problem = check(syntax, sensors)
     if problem is not None:
         return problem
     return Motion(text, syntax, compile_program(syntax))

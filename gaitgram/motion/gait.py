@@ -9,6 +9,11 @@ NaN and a reason, so a backend can score it as unviable without evaluating it.
 A grammar with a ``@frequency`` rule gives each individual its cycle frequency
 (Hz) as well: a constant expression, finite, positive and within the rule's
 limits, or the individual is unusable.
+
+A phenotype that reads a backend's sensors is a closed loop: its curve depends on what the
+body senses, so ``angles`` holds its *nominal* curve (every sensor at its resting reading:
+what a plot can show) and ``loops`` the loop itself, split for a backend to run
+(:mod:`gaitgram.motion.feedback`). Phenotypes without sensors are sampled exactly as before.
 """
 
 from __future__ import annotations
@@ -23,6 +28,7 @@ from numpy.typing import NDArray
 
 from gaitgram.language.model import FREQUENCY
 from gaitgram.motion.expression import Motion, MotionStatus, compile_motion, phase_grid
+from gaitgram.motion.feedback import ClosedLoop, closed_loop
 from gaitgram.motion.problems import MotionProblem
 
 #: Samples per cycle: enough for the 10th harmonic many times over, cheap to build.
@@ -36,7 +42,9 @@ class MotionBatch:
     ``angles[g, j, k]`` is joint ``joints[j]`` of gait ``g`` at phase ``k / n_samples``.
     ``problems[g]`` is None for a usable gait; its ``details[g]`` says what went wrong.
     ``frequencies[g]`` is gait ``g``'s cycle frequency in Hz, where the grammar evolves it
-    (None: the backend imposes one frequency on every gait).
+    (None: the backend imposes one frequency on every gait). ``loops[g][j]`` is the closed
+    loop of gait ``g``'s joint ``j`` where its phenotype reads sensors (None for an open-loop
+    curve; ``loops`` None where no gait reads any), in units of ``loop_scale`` degrees.
     """
 
     joints: tuple[str, ...]
@@ -44,16 +52,12 @@ class MotionBatch:
     problems: tuple[MotionProblem | None, ...]
     details: tuple[str | None, ...]
     frequencies: NDArray[np.float64] | None = None
+    loops: tuple[tuple[ClosedLoop | None, ...], ...] | None = None
+    loop_scale: float = 1.0
 
     def rows(self, start: int, stop: int) -> MotionBatch:
         """Gaits ``start..stop-1`` as a batch of their own."""
-        return MotionBatch(
-            self.joints,
-            self.angles[start:stop],
-            self.problems[start:stop],
-            self.details[start:stop],
-            None if self.frequencies is None else self.frequencies[start:stop],
-        )
+        return self.take(range(start, min(stop, len(self))))
 
     def take(self, indices: Sequence[int]) -> MotionBatch:
         """The gaits at ``indices``, in that order, as a batch of their own."""
@@ -64,7 +68,14 @@ class MotionBatch:
             tuple(self.problems[i] for i in rows),
             tuple(self.details[i] for i in rows),
             None if self.frequencies is None else self.frequencies[rows],
+            None if self.loops is None else tuple(self.loops[i] for i in rows),
+            self.loop_scale,
         )
+
+    @property
+    def closed_loop(self) -> bool:
+        """Whether any gait reads a sensor."""
+        return self.loops is not None and any(any(loop is not None for loop in row) for row in self.loops)
 
     def __len__(self) -> int:
         return self.angles.shape[0]
@@ -90,20 +101,25 @@ def motion_batch(
     n_samples: int = DEFAULT_SAMPLES,
     frozen: Collection[str] = (),
     frequency: tuple[float, float] | None = None,
+    sensors: Sensors | None = None,
 ) -> MotionBatch:
     """Sample each individual's joint phenotypes (None: an invalid genome) into a batch.
 
     ``frozen`` joints hold neutral whatever their phenotype says (Table 3's schedule).
     ``frequency`` is the range (Hz) of an evolved cycle frequency, read from each
-    phenotype's ``"@frequency"`` text; None: the grammar does not evolve it.
+    phenotype's ``"@frequency"`` text; None: the grammar does not evolve it. ``sensors``
+    are what the backend lets phenotypes read (None: nothing; any name is then unknown).
     """
     scale = 180.0 / math.pi if units == "rad" else 1.0
     angles = np.zeros((len(phenotypes), len(joints), n_samples))
     frequencies = None if frequency is None else np.full(len(phenotypes), np.nan)
     problems: list[MotionProblem | None] = []
     details: list[str | None] = []
+    loops: list[tuple[ClosedLoop | None, ...]] = []
     for g, texts in enumerate(phenotypes):
-        problem, detail = _fill(angles[g], texts, joints, n_samples, scale, frozen)
+        row: list[ClosedLoop | None] = [None] * len(joints)
+        problem, detail = _fill(angles[g], texts, joints, n_samples, scale, frozen, sensors, row)
+        loops.append(tuple(row))
         if problem is None and frequencies is not None and frequency is not None:
             frequencies[g], problem, detail = cycle_frequency((texts or {}).get(FREQUENCY), frequency)
         if problem is not None:
@@ -112,7 +128,27 @@ def motion_batch(
                 frequencies[g] = np.nan
         problems.append(problem)
         details.append(detail)
-    return MotionBatch(tuple(joints), angles, tuple(problems), tuple(details), frequencies)
+    closed = any(any(loop is not None for loop in row) for row in loops)
+    return MotionBatch(
+        tuple(joints),
+        angles,
+        tuple(problems),
+        tuple(details),
+        frequencies,
+        tuple(loops) if closed else None,
+        scale,
+    )
+
+
+@dataclass(frozen=True)
+class Sensors:
+    """What a backend lets phenotypes read (:class:`~gaitgram.backends.sensors.SensorCatalogue`,
+    as the motion layer needs it): the names, those that are phases, and each one's reading at
+    rest (for the nominal curve)."""
+
+    names: frozenset[str]
+    periodic: frozenset[str] = frozenset()
+    nominal: tuple[tuple[str, float], ...] = ()
 
 
 def cycle_frequency(
@@ -149,6 +185,8 @@ def _fill(
     n_samples: int,
     scale: float,
     frozen: Collection[str],
+    sensors: Sensors | None,
+    loops: list[ClosedLoop | None],
 ) -> tuple[MotionProblem | None, str | None]:
     if texts is None:
         return MotionProblem.INVALID_GENOME, "the genome maps to no phenotype"
@@ -156,7 +194,10 @@ def _fill(
         text = texts.get(joint)
         if text is None or joint in frozen:
             continue
-        values, problem, detail = sampled_curve(text, n_samples)
+        if sensors is None:
+            values, problem, detail = sampled_curve(text, n_samples)
+        else:
+            values, loops[j], problem, detail = sensed_curve(text, n_samples, sensors)
         if problem is not None:
             return problem, f"{joint}: {detail}"
         out[j] = values
@@ -166,6 +207,33 @@ def _fill(
             if not np.isfinite(out[j]).all():  # finite radians can overflow as degrees
                 return MotionProblem.NON_FINITE, f"{joint}: the curve is not finite in degrees"
     return None, None
+
+
+@lru_cache(maxsize=16_384)
+def sensed_curve(
+    text: str, n_samples: int, sensors: Sensors
+) -> tuple[NDArray[np.float64], ClosedLoop | None, MotionProblem | None, str | None]:
+    """A phenotype that may read ``sensors``: its nominal curve and its closed loop, or (reading
+    none) exactly :func:`sampled_curve`'s curve and no loop."""
+    motion = compile_motion(text, sensors.names)
+    if not isinstance(motion, Motion):
+        return _EMPTY, None, MotionProblem.INVALID_MOTION, str(motion)
+    if not motion.sensors:
+        values, problem, detail = sampled_curve(text, n_samples)
+        return values, None, problem, detail
+    loop = closed_loop(motion, sensors.periodic, n_samples)
+    if not isinstance(loop, ClosedLoop):
+        status = (
+            MotionProblem.NON_FINITE
+            if loop.status is MotionStatus.NON_FINITE
+            else MotionProblem.INVALID_MOTION
+        )  # type: ignore[union-attr]
+        return _EMPTY, None, status, str(loop)
+    values = loop.nominal(dict(sensors.nominal))
+    if not np.isfinite(values).all():
+        return _EMPTY, None, MotionProblem.NON_FINITE, "the curve is not finite with its sensors at rest"
+    values.flags.writeable = False
+    return values, loop, None, None
 
 
 @lru_cache(maxsize=16_384)

@@ -11,7 +11,7 @@ functions' output; a test regenerates them and compares byte for byte.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Collection, Mapping
 from enum import StrEnum
 
 import numpy as np
@@ -35,6 +35,8 @@ class Style(StrEnum):
     SINUSOIDAL = "sinusoidal"
     FREE = "free"
     JOINT_FREEDOM = "joint-freedom"
+    HYBRID_FEEDBACK = "hybrid-feedback"
+    HYBRID_RESET = "hybrid-reset"
 
 
 SUMMARIES = {
@@ -44,7 +46,29 @@ SUMMARIES = {
     Style.SINUSOIDAL: "free sums of up to 3 sines in the seed's frequency and amplitude ranges (Sec. 4.3)",
     Style.FREE: "arbitrary expressions of t (Fig. 5), one sine of one per joint",
     Style.JOINT_FREEDOM: "the concatenating grammar with Table 3's generational joint freedom",
+    Style.HYBRID_FEEDBACK: "the hybrid grammar closed by feedback: trunk pitch and hoof load correct "
+    "the hip, shoulder and fetlocks",
+    Style.HYBRID_RESET: "the feedback grammar with each limb's curves played at its oscillator phase, "
+    "restarted when its hoof lands",
 }
+
+#: The curves a closed loop corrects (docs/motion.md, "Closed loops"): the hip and shoulder swing
+#: the limbs under a pitching trunk, the fetlocks give or extend under load.
+FEEDBACK_JOINTS = ("shoulder_fore", "fetlock_fore", "hip_hind", "fetlock_hind")
+#: The feedback gains' ranges, each centred on 0 (the seed genome's middle value: no feedback).
+#: Degrees of joint per degree of pitch, per degree per second of pitch rate, per share of a
+#: quarter of body weight on the limb's hoof.
+FEEDBACK_RULES = (
+    "<feedback> ::= +<pitch_gain>*pitch+<pitch_rate_gain>*pitch_rate+<load_gain>*(load-1)",
+    "<pitch_gain> ::= float[-1..1 step 0.1]",
+    "<pitch_rate_gain> ::= float[-0.1..0.1 step 0.01]",
+    "<load_gain> ::= float[-5..5 step 0.5]",
+)
+#: Where in its own cycle (``t``) each limb group's hoof lands when the seed is played on the
+#: horse: a limb's oscillator ``phase`` restarts at 0 there, so the reset grammar plays its seed
+#: curves at ``t = phase + this``. Measured by ``tests/seed/test_seed.py`` (the seed's landings,
+#: over 9 cycles after the warm-up, within 0.01 of these).
+SEED_TOUCHDOWN = {"fore": 0.015, "hind": 0.05}
 
 #: Values in a relative range: the paper's parameterised optimisation, within 25 %.
 RELATIVE_COUNT = 11
@@ -152,10 +176,10 @@ def _values(text: str) -> np.ndarray:
     return np.array([float(v) for v in spec.values])
 
 
-def _numerical_curve(fit: SineFit, window: int) -> tuple[str, tuple[float, float]]:
+def _numerical_curve(fit: SineFit, window: int, variable: str = "t") -> tuple[str, tuple[float, float]]:
     """The seed curve with each number free within ``window`` %, and the lowest and highest
     angle any of its derivations reaches (terms have independent numbers, so the bound
-    is the offset's plus each term's own)."""
+    is the offset's plus each term's own); its phase is ``variable``."""
     phases = phase_grid(BOUND_SAMPLES)
     offset = _relative(round(fit.offset, 2), window)
     parts = [offset]
@@ -164,7 +188,7 @@ def _numerical_curve(fit: SineFit, window: int) -> tuple[str, tuple[float, float
         amplitude = _relative(round(term.amplitude, 2), window)
         harmonic = _relative(term.harmonic, window, "int")
         phase = _relative(round(term.phase, 2), window)
-        parts.append(f"{amplitude}*sin({harmonic}*2*PI*t+{phase})")
+        parts.append(f"{amplitude}*sin({harmonic}*2*PI*{variable}+{phase})")
         waves = np.sin(
             2 * np.pi * _values(harmonic)[:, None, None] * phases + _values(phase)[None, :, None]
         ).reshape(-1, phases.size)
@@ -175,14 +199,14 @@ def _numerical_curve(fit: SineFit, window: int) -> tuple[str, tuple[float, float
 
 
 def _fitting_curve(
-    fit: SineFit, limits: tuple[float, float], keep: float = 0.0
+    fit: SineFit, limits: tuple[float, float], keep: float = 0.0, variable: str = "t"
 ) -> tuple[str, tuple[float, float]]:
     """The numerical curve with the widest window that keeps it within ``limits`` and leaves
     at least ``keep`` of the room the seed itself leaves there (for concatenated functions)."""
     seed_low, seed_high = _seed_bounds(fit)
     wanted = keep * min(limits[1] - seed_high, seed_low - limits[0])
     for window in RELATIVE_WINDOWS:
-        text, (low, high) = _numerical_curve(fit, window)
+        text, (low, high) = _numerical_curve(fit, window, variable)
         if min(limits[1] - high, low - limits[0]) >= wanted:
             return text, (low, high)
     raise ValueError(f"the seed curve {fit.text} leaves too little room within {limits}")
@@ -204,20 +228,23 @@ def _gain(
     return _num(min(1.0, math.floor(100 * room / (MAX_TERMS * amplitude)) / 100))
 
 
-def _funcs_rules() -> list[str]:
+def _funcs_rules(*, phased: bool = False) -> list[str]:
     """Fig. 2's concatenated functions, value lists written as typed ranges, at most
-    MAX_TERMS of them."""
-    chains = ["<op>".join(["<func>"] * count) for count in range(1, MAX_TERMS + 1)]
-    return [
+    MAX_TERMS of them; with ``phased``, a copy for the limbs' oscillator phase as well."""
+    funcs, func, function = _function_rules("", "t")
+    lines = [
         f"# Functions added to (or subtracted from) a curve (Fig. 2), at most {MAX_TERMS}: Fig. 2's",
         "# <funcs> ::= <funcs><op><funcs> adds any number, and so leaves every joint's limits.",
         "# Each curve scales them by a gain that keeps it within its joint's limits.",
-        "<funcs> ::= " + " | ".join(chains),
-        "<func> ::= <function> | <med_amp_var>",
+        funcs,
+        func,
         "<op> ::= + | -",
-        "<function> ::= <low_amp_var>*sin(<low_freq_var>*2*PI*t) | <low_amp_var>*cos(<low_freq_var>*2*PI*t)"
-        " | <med_amp_var>*sin(<med_freq_var>*2*PI*t) | <med_amp_var>*cos(<med_freq_var>*2*PI*t)"
-        " | <hi_amp_var>*sin(<hi_freq_var>*2*PI*t) | <hi_amp_var>*cos(<hi_freq_var>*2*PI*t)",
+        function,
+    ]
+    if phased:
+        lines += ["# The same functions of a limb's oscillator phase.", *_function_rules("phase_", "phase")]
+    return [
+        *lines,
         "<low_freq_var> ::= int[1..2]",
         "<med_freq_var> ::= int[3..4]",
         "<hi_freq_var> ::= int[5..8]",
@@ -225,6 +252,21 @@ def _funcs_rules() -> list[str]:
         "<med_amp_var> ::= float[0..4 step 0.1]",
         "<hi_amp_var> ::= float[0..1 step 0.05]",
         "",
+    ]
+
+
+def _function_rules(prefix: str, variable: str) -> list[str]:
+    """``<{prefix}funcs>``, ``<{prefix}func>`` and ``<{prefix}function>`` of ``variable``."""
+    chains = ["<op>".join([f"<{prefix}func>"] * count) for count in range(1, MAX_TERMS + 1)]
+    functions = " | ".join(
+        f"<{size}_amp_var>*{wave}(<{size}_freq_var>*2*PI*{variable})"
+        for size in ("low", "med", "hi")
+        for wave in ("sin", "cos")
+    )
+    return [
+        f"<{prefix}funcs> ::= " + " | ".join(chains),
+        f"<{prefix}func> ::= <{prefix}function> | <med_amp_var>",
+        f"<{prefix}function> ::= {functions}",
     ]
 
 
@@ -250,19 +292,31 @@ def _seed_plus_funcs(
     comment: str,
     *,
     freedom: bool = False,
+    feedback: Collection[str] = (),
+    phased: Collection[str] = (),
 ) -> list[str]:
     """Fig. 2's shape: each curve is its seed rule, optionally plus concatenated functions
-    (``seed_rules`` gives each seed's text and the angles it can reach)."""
+    (``seed_rules`` gives each seed's text and the angles it can reach); ``feedback`` joints add
+    the closed loop's corrections, ``phased`` joints play their functions at the limb's phase."""
     lines = []
     for joint in joints:
         rule = f"<{prefix}_{joint}>"
         gain = _gain(_limits(joint, catalogue), seed_rules[joint][1])
+        funcs = "<phase_funcs>" if joint in phased else "<funcs>"
+        tail = "<feedback>" if joint in feedback else ""
         lines += [
             _joint_annotation(joint, catalogue, freedom=freedom),
-            f"<{joint}> ::= {rule} | {rule}+{gain}*(<funcs>)",
+            f"<{joint}> ::= {rule}{tail} | {rule}+{gain}*({funcs}){tail}",
             "",
         ]
-    lines += _funcs_rules()
+    if feedback:
+        lines += [
+            "# The closed loop (docs/motion.md): the trunk's pitch and pitch rate and the limb's own",
+            "# hoof load correct the curve; each gain's range is centred on 0, no feedback.",
+            *FEEDBACK_RULES,
+            "",
+        ]
+    lines += _funcs_rules(phased=bool(phased))
     lines += [comment]
     lines += [f"<{prefix}_{joint}> ::= {seed_rules[joint][0]}" for joint in joints]
     return lines
@@ -283,6 +337,42 @@ def _hybrid(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCata
     )
     seeds = {joint: _fitting_curve(fits[joint], _limits(joint, catalogue), keep=0.5) for joint in joints}
     return _seed_plus_funcs(joints, catalogue, seeds, "num", comment)
+
+
+def _hybrid_feedback(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
+    comment = (
+        "# The seed, each number free within 25 % of itself, or less where that would leave\n"
+        "# the functions under half of the room the seed leaves within the limits."
+    )
+    seeds = {joint: _fitting_curve(fits[joint], _limits(joint, catalogue), keep=0.5) for joint in joints}
+    return _seed_plus_funcs(joints, catalogue, seeds, "num", comment, feedback=FEEDBACK_JOINTS)
+
+
+def _hybrid_reset(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
+    comment = (
+        "# The seed, each number free within 25 % of itself, or less where that would leave\n"
+        "# the functions under half of the room the seed leaves within the limits; a limb's\n"
+        "# seed curve at its oscillator phase, which restarts at 0 where the seed's hoof lands:\n"
+        "# t = phase + where it lands (the same curves as the hybrid grammar's, reset at landing)."
+    )
+    phased = {joint: group for joint in joints if (group := _group(joint, catalogue)) is not None}
+    seeds = {
+        joint: _fitting_curve(
+            fits[joint],
+            _limits(joint, catalogue),
+            keep=0.5,
+            variable=f"(phase+{_num(SEED_TOUCHDOWN[phased[joint]])})" if joint in phased else "t",
+        )
+        for joint in joints
+    }
+    return _seed_plus_funcs(joints, catalogue, seeds, "num", comment, feedback=FEEDBACK_JOINTS, phased=phased)
+
+
+def _group(joint: str, catalogue: JointCatalogue) -> str | None:
+    """``fore`` or ``hind`` for a limb's joint, None for one that drives no limb."""
+    known = catalogue.get(joint)
+    assert known is not None
+    return {"forelimb": "fore", "hindlimb": "hind"}.get(known.group)
 
 
 def _sinusoidal(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
@@ -342,6 +432,8 @@ _WRITERS: dict[Style, Callable[[list[str], Mapping[str, SineFit], JointCatalogue
     Style.JOINT_FREEDOM: lambda joints, fits, catalogue: _concatenating(
         joints, fits, catalogue, freedom=True
     ),
+    Style.HYBRID_FEEDBACK: _hybrid_feedback,
+    Style.HYBRID_RESET: _hybrid_reset,
 }
 
 

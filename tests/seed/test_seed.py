@@ -13,6 +13,7 @@ from conftest import GRAMMARS, ROOT
 from gaitgram.analysis import check
 from gaitgram.backends.api import GaitStatus
 from gaitgram.backends.mujoco_horse import CATALOGUE
+from gaitgram.backends.mujoco_horse.joints import SENSORS
 from gaitgram.backends.mujoco_horse.seed_fit import CHAINS, FootPath, fit_seed
 from gaitgram.backends.registry import get_backend
 from gaitgram.cli import app
@@ -99,7 +100,7 @@ def test_every_joint_phenotype_compiles(style: Style) -> None:
         assert mapped.valid
         assert len(mapped.joints) == 13  # 12 joints and the @frequency rule
         for joint, text in mapped.joints.items():
-            assert not hasattr(compile_motion(text), "status"), (joint, text)
+            assert not hasattr(compile_motion(text, SENSORS.names), "status"), (joint, text)
 
 
 @pytest.mark.parametrize("style", [Style.NUMERICAL, Style.CONCATENATING, Style.HYBRID, Style.JOINT_FREEDOM])
@@ -204,13 +205,17 @@ def test_seed_fit_output_parses_as_gg_rules() -> None:
 @pytest.mark.parametrize("path", sorted(GRAMMARS.glob("*.gg")), ids=lambda p: p.name)
 def test_bundled_grammars_give_finite_curves(path: Path) -> None:
     """A few hundred genomes each (sensibly initialised, as evolution starts) to sampled curves."""
+    from gaitgram.backends.registry import get_backend
     from gaitgram.ge.initialisation import ramped_population
     from gaitgram.motion.gait import MotionProblem, motion_batch
+    from gaitgram.pipeline import sensors_of
 
     checked = check(load(path))
     trees = ramped_population(checked.facts, np.random.default_rng(5), 300, max_depth=8)
     mapped = compile_mapper(checked.grammar, max_wraps=0).map_many([t.genome for t in trees])
-    batch = motion_batch([m.joints for m in mapped], CATALOGUE.names)
+    batch = motion_batch(
+        [m.joints for m in mapped], CATALOGUE.names, sensors=sensors_of(get_backend("mujoco-horse"))
+    )
     usable = batch.angles[batch.usable]
     assert np.isfinite(usable).all()
     if path.name == "free.gg":  # Fig. 5 divides freely: such curves are flagged, never passed on

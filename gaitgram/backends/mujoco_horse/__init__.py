@@ -10,7 +10,7 @@ from typing import Any
 
 from gaitgram.backends.api import Verdict
 from gaitgram.backends.mujoco_horse.bodies import BODIES, SCALINGS
-from gaitgram.backends.mujoco_horse.joints import CATALOGUE
+from gaitgram.backends.mujoco_horse.joints import CATALOGUE, SENSORS
 from gaitgram.backends.mujoco_horse.settings import WEIGHT_NAMES, HorseSettings, weights_in_force
 from gaitgram.backends.mujoco_horse.targets import (
     CYCLE_FREQUENCIES,
@@ -109,4 +109,5 @@ BACKEND = BackendSpec(
     retarget=retarget,
     retarget_scalings=SCALINGS,
     assess=assess,
+    sensors=SENSORS,
 )

@@ -20,17 +20,20 @@ flipped, unstable) and the records are kept; only the gaits still viable and not
 yet at their own end are simulated further, from where they stopped. Memory is
 bounded by a group's records, whatever the population.
 
-Chunking changes no bit of any result. The gaits run on ``mujoco.batch.Batch``,
-which keeps each simulation's ``mjSTATE_INTEGRATION`` row between calls: the
-full physics state *and* ``qacc_warmstart``, the solver's warm start.
-(``mujoco.rollout`` records and accepts only ``mjSTATE_FULLPHYSICS``, without
-the warm start: restarting it from a recorded state changes the trajectory.)
-The verdict is the first failure in time, checked per step, so it does not
-depend on when a gait is dropped. ``tests/backends/test_chunked_rollout.py``
-checks that chunked and one-chunk evaluations, and the raw full-length
-``mujoco.rollout``, agree to the bit with one and two threads. A gait that
-cannot be scored gets a status and the worst fitness; so does one with any
-non-finite measure.
+The simulation itself is the generic MuJoCo layer's (:mod:`gaitgram.backends.mujoco`):
+batched, chunked rollouts (:mod:`~gaitgram.backends.mujoco.rollout`), controls open loop or
+closed (:mod:`~gaitgram.backends.mujoco.control`), sensors read as the horse declares them
+(``sensors.toml``, :mod:`~gaitgram.backends.mujoco.sensing`). Chunking changes no bit of any
+result; the verdict is the first failure in time, checked per step, so it does not depend on
+when a gait is dropped. ``tests/backends/test_chunked_rollout.py`` checks that chunked and
+one-chunk evaluations, and the raw full-length ``mujoco.rollout``, agree to the bit with one and
+two threads. A gait that cannot be scored gets a status and the worst fitness; so does one with
+any non-finite measure, and one whose closed loop computes a non-finite control.
+
+A closed loop (a phenotype that reads sensors) is controlled at :data:`CONTROL_SECONDS`: its
+sensed terms are computed from the last recorded step every tick and held for the tick's
+steps, while its curves of the phase move at every step. A grammar without sensors is played
+open loop exactly as before.
 """
 
 from __future__ import annotations
@@ -45,10 +48,12 @@ from typing import Any
 
 import mujoco
 import numpy as np
-from mujoco import batch as mjbatch
-from mujoco import rollout
 
 from gaitgram.backends.api import WORST_FITNESS, Evaluation, GaitStatus, unusable_evaluations
+from gaitgram.backends.mujoco.control import Actuation, ClosedLoop, OpenLoop, Oscillators
+from gaitgram.backends.mujoco.rollout import BatchRollout, Forces
+from gaitgram.backends.mujoco.sensing import Sensing, touchdown_reader
+from gaitgram.backends.mujoco_horse.joints import SENSORS
 from gaitgram.backends.mujoco_horse.measures import (
     HOOVES,
     CycleMeasures,
@@ -58,6 +63,7 @@ from gaitgram.backends.mujoco_horse.measures import (
     window,
 )
 from gaitgram.backends.mujoco_horse.model import (
+    LIMBS,
     STATE_SPEC,
     HorseLayout,
     bumpy_model,
@@ -84,8 +90,9 @@ TOUCHDOWN_GAP_SECONDS = 0.2
 CHUNK_SECONDS = 0.25
 #: Gaits simulated together: bounds the memory of a chunk (controls, records) whatever the population.
 GROUP_SIZE = 256
-
-_RECORD = int(STATE_SPEC)  # mujoco.rollout's state spec: the recorded states are the same arrays
+#: A closed loop's control period (s): its sensed terms are read every 10 ms (100 Hz, every 5
+#: physics steps of 2 ms) and held in between; a horse's fastest reflexes take 20-30 ms.
+CONTROL_SECONDS = 0.01
 
 #: Called after each chunk with the batch rows simulated, the chunk's first step and its records
 #: (views into reused buffers: copy what you keep).
@@ -165,21 +172,34 @@ class HorseEvaluator:
             )
         self.chunk_steps = chunk_steps or max(1, round(CHUNK_SECONDS / self.dt))
         self.group_size = group_size
+        #: Steps a closed loop holds its sensed terms (:data:`CONTROL_SECONDS`).
+        self.tick = max(1, round(CONTROL_SECONDS / self.dt))
         self.initial_state = self.layout.initial_state(self.model)
-        # Built on first use, from ``self.model`` as it is then.
-        self._pool: rollout.Rollout | None = None  # raw full-length rollouts (simulate)
-        self._datas: list[mujoco.MjData] = []
-        self._sim: mjbatch.Batch | None = None  # chunked rollouts (evaluate)
-        self._start_row: np.ndarray | None = None
-        self._offsets = np.array(
-            [self.targets.phase_offsets.get(limb, 0.0) if limb else 0.0 for limb in self.layout.actuator_limb]
+        layout = self.layout
+        self.actuation = Actuation(
+            curves=layout.curves,
+            curve_index=np.asarray(layout.actuator_curve_index),
+            offsets=np.array(
+                [self.targets.phase_offsets.get(limb, 0.0) if limb else 0.0 for limb in layout.actuator_limb]
+            ),
+            limb_index=np.array([LIMBS.index(limb) if limb else -1 for limb in layout.actuator_limb]),
+            limbs=LIMBS,
+            neutral=np.asarray(layout.neutral_ctrl),
+            low=np.asarray(layout.ctrl_low),
+            high=np.asarray(layout.ctrl_high),
+            timestep=self.dt,
+            ramp_seconds=self.settings.ramp_seconds,
         )
-        self._curve_of_actuator = np.asarray(self.layout.actuator_curve_index)
-        self._lookups: dict[tuple[int, float], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
-        self._scratch: tuple[np.ndarray, np.ndarray] | None = None
-        self._neutral = np.asarray(self.layout.neutral_ctrl)[None, None, :]
-        self._ctrl_low = np.asarray(self.layout.ctrl_low)[None, None, :]
-        self._ctrl_high = np.asarray(self.layout.ctrl_high)[None, None, :]
+        self.open_loop = OpenLoop(
+            self.actuation, reference_frequency=self.targets.stride_frequency, min_steps=self.nstep
+        )
+        self.rollout = BatchRollout(
+            self.model,
+            self.initial_state,
+            threads=self.threads,
+            group_size=group_size,
+            chunk_steps=self.chunk_steps,
+        )
         sensors = self.layout.sensors
         self._trunk_pos = sensors["trunk_pos"]
         self._trunk_quat = sensors["trunk_quat"]
@@ -191,8 +211,15 @@ class HorseEvaluator:
         self._act_q = 1 + np.asarray(self.layout.actuator_qpos)
         self._act_v = 1 + nq + np.asarray(self.layout.actuator_dof)
         self._start = self._standing_records()
-        #: Steps simulated by ``evaluate`` and ``verify`` so far, summed over gaits (for benchmarks).
-        self.simulated_steps = 0
+
+    @property
+    def simulated_steps(self) -> int:
+        """Steps simulated by ``evaluate`` and ``verify`` so far, summed over gaits (for benchmarks)."""
+        return self.rollout.simulated_steps
+
+    @simulated_steps.setter
+    def simulated_steps(self, value: int) -> None:
+        self.rollout.simulated_steps = value
 
     @cached_property
     def floors(self) -> tuple[tuple[int, HorseEvaluator], ...]:
@@ -254,81 +281,63 @@ class HorseEvaluator:
         """Control arrays [gaits, steps, actuators] for ``cycles`` cycles after the ramp (by default
         the warm-up and scored ones) of the longest gait: neutral pose plus each limb's curve at its
         phase. All steps at once (rendering, the raw reference); evaluation builds the same values
-        a chunk at a time."""
+        a chunk at a time. An open loop's only: a closed loop's controls exist only as it is
+        played (:meth:`play`)."""
+        if _closed(batch, rows):
+            raise ValueError("a closed-loop gait has no controls before it is played: use play()")
         frequencies = self.frequencies(batch, rows)
         ends = self._stage_steps(frequencies) if cycles is None else self._steps(frequencies, cycles)
         steps = int(ends.max())
-        return self._control_steps(
-            self._curve_table(batch, rows), batch.n_samples, 0, steps, self._own(batch, frequencies)
+        return self.open_loop.controls(
+            self.open_loop.table(batch, rows), batch.n_samples, 0, steps, self._own(batch, frequencies)
         )
 
     def _own(self, batch: MotionBatch, frequencies: np.ndarray) -> np.ndarray | None:
         """The per-gait frequencies to play, or None when every gait plays the target's."""
         return None if batch.frequencies is None else frequencies
 
-    def _curve_table(self, batch: MotionBatch, rows: np.ndarray) -> np.ndarray:
-        """Per gait, every actuator's curve samples in radians, flat: [gaits, actuators * samples]."""
-        curves_by_name = {name: i for i, name in enumerate(batch.joints)}
-        order = np.array([curves_by_name.get(name, -1) for name in self.layout.curves])
-        angles = np.concatenate([batch.angles[rows], np.zeros((len(rows), 1, batch.n_samples))], axis=1)
-        per_curve = angles[:, order, :]  # [G, curves, S]; undriven curves read the zero row
-        return np.radians(per_curve[:, self._curve_of_actuator, :]).reshape(len(rows), -1)  # [G, nu*S]
+    def controller(self, batch: MotionBatch, rows: np.ndarray) -> _OpenController | ClosedLoop:
+        """What plays the gaits ``rows`` of ``batch``: their curves open loop, or, where any of them
+        reads sensors, a closed loop (the open-loop curves of a closed-loop grammar are played as
+        an open loop plays them)."""
+        frequencies = self.frequencies(batch, rows)
+        own = self._own(batch, frequencies)
+        table = self.open_loop.table(batch, rows)
+        if not _closed(batch, rows):
+            return _OpenController(self.open_loop, table, batch.n_samples, own)
+        assert batch.loops is not None
+        by_joint = {name: j for j, name in enumerate(batch.joints)}
+        loops = [
+            tuple(
+                batch.loops[g][by_joint[curve]] if curve in by_joint else None
+                for curve in self.actuation.curves
+            )
+            for g in rows
+        ]
+        read = frozenset().union(*(loop.sensors for row in loops for loop in row if loop is not None))
+        sensing = Sensing(self.model, SENSORS, read, limbs=LIMBS, facts=self._facts) if read else None
+        oscillators = None
+        if any("phase" in loop.variables for row in loops for loop in row if loop is not None):
+            columns, above, airborne = touchdown_reader(self.model, SENSORS.get("phase"), LIMBS)  # type: ignore[arg-type]
+            oscillators = Oscillators(len(rows), columns, above, airborne, self.actuation)
+        return ClosedLoop(
+            self.open_loop,
+            table,
+            batch.n_samples,
+            frequencies,
+            own is not None,
+            loops,
+            tick=self.tick,
+            sensing=sensing,
+            oscillators=oscillators,
+            scale=batch.loop_scale,
+        )
 
-    def _control_steps(
-        self, table: np.ndarray, samples: int, first: int, last: int, frequencies: np.ndarray | None = None
-    ) -> np.ndarray:
-        """Controls [gaits, last - first, actuators] for steps ``first..last-1`` from a curve table,
-        at the target's cycle frequency, or at each gait's own ``frequencies`` (Hz).
-
-        Element by element the same operations whatever the step range, so a chunk's controls are
-        bit-identical to the same steps of the full array."""
-        steps = slice(first, last)
-        if frequencies is None:
-            low, high, frac = self._lookup(samples, last)
-            # One flat gather per interpolation end, straight into [gaits, steps, actuators] order.
-            v_low = np.take(table, low[steps], axis=1)
-            control = np.take(table, high[steps], axis=1)
-            fraction = frac[steps]
-        else:  # the same per distinct frequency (grammars evolve a few), gaits gathered by it
-            shape = (len(table), last - first, self.model.nu)
-            v_low, control, fraction = np.empty(shape), np.empty(shape), np.empty(shape)
-            for value in np.unique(frequencies):
-                gaits = np.flatnonzero(frequencies == value)
-                low, high, frac = self._lookup(samples, last, float(value))
-                v_low[gaits] = np.take(table[gaits], low[steps], axis=1)
-                control[gaits] = np.take(table[gaits], high[steps], axis=1)
-                fraction[gaits] = frac[steps]
-        control -= v_low
-        control *= fraction
-        control += v_low
-        control *= self._ramp(first, last)[None, :, None]
-        control += self._neutral
-        np.clip(control, self._ctrl_low, self._ctrl_high, out=control)
-        return control
-
-    def _ramp(self, first: int, last: int) -> np.ndarray:
-        """The blend-in factor of steps ``first..last-1``: 0 standing, 1 from the ramp's end on."""
-        if not self.settings.ramp_seconds:
-            return np.ones(last - first)
-        return np.clip(np.arange(first, last) * self.dt / self.settings.ramp_seconds, 0.0, 1.0)
-
-    def _lookup(
-        self, samples: int, last: int, frequency: float | None = None
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Flat sample indices [steps, actuators] around each step's phase at ``frequency`` (Hz; the
-        target's by default), and the weight between them, for at least ``last`` steps."""
-        frequency = self.targets.stride_frequency if frequency is None else frequency
-        cached = self._lookups.get((samples, frequency))
-        if cached is None or len(cached[0]) < last:  # grown by doubling: a check's chunks reach far
-            steps = max(last, self.nstep, 2 * len(cached[0]) if cached is not None else 0)
-            time = np.arange(steps) * self.dt
-            phase = np.mod(time[:, None] * frequency - self._offsets[None, :], 1.0)
-            position = phase * samples  # [steps, nu], in samples
-            low = np.floor(position).astype(np.intp) % samples
-            base = np.arange(self.model.nu)[None, :] * samples
-            cached = (base + low, base + (low + 1) % samples, position - np.floor(position))
-            self._lookups[(samples, frequency)] = cached
-        return cached
+    @cached_property
+    def _facts(self) -> dict[str, float]:
+        """What the sensors' read tables may name of the body."""
+        weight = self.layout.total_mass * -float(self.model.opt.gravity[2])
+        return {"standing_height": self.layout.standing_height, "quarter_weight": weight / 4}
 
     # ---- simulation -------------------------------------------------------------------
 
@@ -340,54 +349,47 @@ class HorseEvaluator:
         not use it; it is the reference that chunked evaluation is bit-identical to, and the
         benchmark's ceiling. ``forces`` [gaits, steps, nbody * 6] are applied to the bodies
         (``xfrc_applied``: a push)."""
-        if self._pool is None:
-            self._pool = rollout.Rollout(nthread=self.threads)
-            self._datas = [mujoco.MjData(self.model) for _ in range(self.threads)]
-        size, steps = control.shape[:2]
-        nstate = mujoco.mj_stateSize(self.model, STATE_SPEC)
-        state = np.empty((size, steps, nstate))
-        sensors = np.empty((size, steps, self.model.nsensordata))
-        if forces is None:
-            self._pool.rollout(
-                self.model, self._datas, self.initial_state[None, :], control, state=state, sensordata=sensors
-            )
-        else:
-            spec = mujoco.mjtState.mjSTATE_CTRL | mujoco.mjtState.mjSTATE_XFRC_APPLIED
-            self._pool.rollout(
-                self.model,
-                self._datas,
-                self.initial_state[None, :],
-                np.concatenate([control, forces], axis=2),
-                control_spec=int(spec),
-                state=state,
-                sensordata=sensors,
-            )
-        return state, sensors
+        return self.rollout.raw(control, forces)
 
-    def _simulator(self) -> mjbatch.Batch:
-        """The batch of ``group_size`` simulations that chunked evaluation runs on."""
-        if self._sim is None:
-            self._sim = mjbatch.Batch(self.model, self.group_size, self.threads)
-            # What mujoco.rollout starts from: the initial state, a zero warm start, no applied forces.
-            data = mujoco.MjData(self.model)
-            mujoco.mj_setState(self.model, data, self.initial_state, STATE_SPEC)
-            row = np.empty(self._sim.nstate)
-            mujoco.mj_getState(self.model, data, row, mujoco.mjtState.mjSTATE_INTEGRATION)
-            self._start_row = row
-        return self._sim
-
-    def _chunk_buffers(self, gaits: int, steps: int) -> tuple[np.ndarray, np.ndarray]:
-        """Record arrays [gaits, steps, ...] for one chunk, views into buffers reused between chunks."""
+    def play(
+        self,
+        batch: MotionBatch,
+        rows: np.ndarray,
+        cycles: int | None = None,
+        forces: np.ndarray | None = None,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Every gait ``rows`` played for ``cycles`` cycles after the ramp (by default the warm-up
+        and scored ones) of the longest, through the chunked control loop, none dropped: states,
+        sensors and controls [gaits, steps, ...], as :meth:`simulate` gives them. For an open loop
+        the same bits as ``simulate(controls(...))``; for a closed loop the only way to see it.
+        ``forces`` [gaits, steps, nbody * 6] are applied to the bodies."""
+        rows = np.asarray(rows, dtype=np.intp)
+        frequencies = self.frequencies(batch, rows)
+        ends = self._stage_steps(frequencies) if cycles is None else self._steps(frequencies, cycles)
+        steps = int(ends.max())
         nstate = mujoco.mj_stateSize(self.model, STATE_SPEC)
-        nsensor = self.model.nsensordata
-        need = gaits * steps  # at most group_size x chunk_steps
-        if self._scratch is None or self._scratch[0].size < need * nstate:
-            self._scratch = (np.empty(need * nstate), np.empty(need * nsensor))
-        states, sensors = self._scratch
-        return (
-            states[: gaits * steps * nstate].reshape(gaits, steps, nstate),
-            sensors[: gaits * steps * nsensor].reshape(gaits, steps, nsensor),
-        )
+        states = np.empty((len(rows), steps, nstate))
+        sensors = np.empty((len(rows), steps, self.model.nsensordata))
+        controls = np.empty((len(rows), steps, self.model.nu))
+        for start in range(0, len(rows), self.group_size):
+            group = np.arange(start, min(start + self.group_size, len(rows)))
+            controller = self.controller(batch, rows[group])
+
+            def keep(ids, first, state, sensordata, control, *_, group=group) -> np.ndarray:
+                span = slice(first, first + state.shape[1])
+                states[group[ids], span] = state
+                sensors[group[ids], span] = sensordata
+                controls[group[ids], span] = control
+                return np.zeros(len(ids), dtype=bool)
+
+            push = None if forces is None else _forces_of(forces[group])
+            self.rollout.run(np.full(len(group), steps), controller, keep, push)
+        return states, sensors, controls
+
+    @property
+    def control_period(self) -> float:
+        """Seconds a closed loop holds its sensed terms."""
+        return self.tick * self.dt
 
     # ---- evaluation ---------------------------------------------------------------------
 
@@ -456,13 +458,16 @@ class HorseEvaluator:
         *,
         cycles: int | None = None,
         on_chunk: ChunkObserver | None = None,
+        forces: np.ndarray | None = None,
     ) -> list[Evaluation]:
         """Simulate and score the gaits ``rows`` of ``batch`` (all usable) for ``cycles`` cycles
-        after the ramp (None: each its warm-up and scored ones), a group at a time."""
+        after the ramp (None: each its warm-up and scored ones), a group at a time; ``forces``
+        [rows, steps, nbody * 6] are applied to the bodies (a push), as long as they last."""
         evaluations: list[Evaluation] = []
         for start in range(0, len(rows), self.group_size):
             group = np.asarray(rows[start : start + self.group_size], dtype=np.intp)
-            evaluations += self._evaluate_group(batch, group, weights, cycles, on_chunk)
+            push = None if forces is None else _forces_of(forces[start : start + len(group)])
+            evaluations += self._evaluate_group(batch, group, weights, cycles, on_chunk, push)
         return evaluations
 
     def _evaluate_group(
@@ -472,56 +477,33 @@ class HorseEvaluator:
         weights: Mapping[str, float],
         cycles: int | None,
         on_chunk: ChunkObserver | None,
+        forces: Forces | None = None,
     ) -> list[Evaluation]:
-        size = len(rows)
-        sim = self._simulator()
-        table = self._curve_table(batch, rows)
         frequencies = self.frequencies(batch, rows)
-        own = self._own(batch, frequencies)
         ends = self._ends(frequencies, cycles)  # per gait: its last step
-        records = _Records(size, int(ends.max()), self._start)
-        sim.state[:size] = self._start_row
-        sim.warning[:size] = 0
-        alive = np.arange(size, dtype=np.int32)  # simulation ids, also indices into rows and records
-        first = 0
-        while len(alive):
-            last = min(first + self.chunk_steps, int(ends[alive].max()))
-            everyone = len(alive) == size
-            control = self._control_steps(
-                table if everyone else table[alive],
-                batch.n_samples,
-                first,
-                last,
-                own if own is None or everyone else own[alive],
-            )
-            state, sensors = self._chunk_buffers(len(alive), last - first)
-            errors = None
-            try:
-                sim.rollout(
-                    last - first,
-                    control,
-                    record=(_RECORD, "sensordata"),
-                    ids=alive,
-                    out={_RECORD: state, "sensordata": sensors},
-                )
-            except mjbatch.SimulationError:  # MuJoCo raised in some simulations; the others ran
-                errors = {i: sim.error(int(alive[i])) for i in np.flatnonzero(sim.status[alive] != 0)}
-            self.simulated_steps += len(alive) * (last - first)
+        records = _Records(len(rows), int(ends.max()), self._start)
+
+        def observe(alive, first, state, sensors, control, warnings, errors, failures) -> np.ndarray:
             if on_chunk is not None:
                 on_chunk(rows[alive], first, state, sensors)
             failed = self._observe(
-                records,
-                alive,
-                first,
-                ends[alive] - first,
-                state,
-                sensors,
-                control,
-                sim.warning[alive],
-                errors,
+                records, alive, first, ends[alive] - first, state, sensors, control, warnings, errors
             )
-            alive = alive[~failed & (ends[alive] > last)]
-            first = last
+            for position, (step, curve) in failures.items():
+                gait = int(alive[position])
+                earlier = records.failures.get(gait)
+                if earlier is None or earlier[1] > step:
+                    records.failures[gait] = (
+                        Evaluation.unviable(
+                            GaitStatus.NON_FINITE,
+                            f"the closed loop of {curve} is not finite at {step * self.dt:.3f} s",
+                        ),
+                        step,
+                    )
+                failed[position] = True
+            return failed
+
+        self.rollout.run(ends, self.controller(batch, rows), observe, forces)
         return self._verdicts(records, ends, frequencies, weights, cycles)
 
     def score(
@@ -767,10 +749,7 @@ class HorseEvaluator:
         return Evaluation(min(fitness, WORST_FITNESS), GaitStatus.OK, components, cycles=_series(scored))
 
     def close(self) -> None:
-        if self._pool is not None:
-            self._pool.close()
-            self._pool = None
-        self._sim = None
+        self.rollout.close()
         for _, floor in self.__dict__.get("floors", ()):
             floor.close()
 
@@ -811,6 +790,43 @@ def _series(scored: CycleMeasures) -> dict[str, tuple[float, ...]]:
         "work": scored.work,
     }
     return {name: tuple(float(v) for v in values) for name, values in series.items()}
+
+
+class _OpenController:
+    """An open loop as the rollout asks for it: a chunk's controls at once."""
+
+    tick = None
+
+    def __init__(self, open_loop: OpenLoop, table: np.ndarray, samples: int, own: np.ndarray | None) -> None:
+        self.open_loop, self.table, self.samples, self.own = open_loop, table, samples, own
+
+    def controls(
+        self, ids: np.ndarray, first: int, last: int, state: np.ndarray, sensordata: np.ndarray
+    ) -> tuple[np.ndarray, dict[int, str]]:
+        everyone = len(ids) == len(self.table)
+        table = self.table if everyone else self.table[ids]
+        own = self.own if self.own is None or everyone else self.own[ids]
+        return self.open_loop.controls(table, self.samples, first, last, own), {}
+
+
+def _closed(batch: MotionBatch, rows: np.ndarray) -> bool:
+    """Whether any of the gaits ``rows`` reads a sensor."""
+    loops = batch.loops
+    return loops is not None and any(any(loop is not None for loop in loops[g]) for g in rows)
+
+
+def _forces_of(forces: np.ndarray) -> Forces:
+    """Applied forces [gaits, steps, nbody * 6] as the rollout asks for them, a chunk at a time
+    (zero past their end)."""
+
+    def chunk(ids: np.ndarray, first: int, last: int) -> np.ndarray:
+        out = np.zeros((len(ids), last - first, forces.shape[2]))
+        stop = min(last, forces.shape[1])
+        if stop > first:
+            out[:, : stop - first] = forces[ids, first:stop]
+        return out
+
+    return chunk
 
 
 def load(settings: Mapping[str, Any] | None = None) -> HorseEvaluator:

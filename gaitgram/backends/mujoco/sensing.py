@@ -1,0 +1,153 @@
+"""Reading a backend's declared sensors (:mod:`gaitgram.backends.sensors`) from MuJoCo's state.
+
+A sensor's ``read`` table names one of a few kinds, each a small function of the recorded state
+vector (``mjSTATE_FULLPHYSICS``: time, qpos, qvel, ...) and ``sensordata``; what a kind needs of
+the body (its standing height, its weight) comes from the walker as named facts, so that this
+module knows no horse:
+
+* ``sensor``: one value of a MuJoCo sensor (``index`` into it), ``minus`` a fact;
+* ``pitch``: the pitch (degrees, nose up positive) of a ``framequat`` sensor;
+* ``joint_velocity``: a joint's velocity times ``scale``;
+* ``touch``: a touch sensor, per limb (``{limb}`` in its name), as a share of a fact (``per``)
+  or as 0/1 ``above`` a force;
+* ``oscillator``: the limb's phase, which the controller keeps (:mod:`.control`); here only the
+  touchdown it resets at is read (a ``touch`` ``above`` a force).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Collection, Mapping, Sequence
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from gaitgram.backends.sensors import Sensor, SensorCatalogue
+
+__all__ = ["Sensing", "SensingError", "pitch_degrees"]
+
+
+class SensingError(ValueError):
+    """A sensor declaration the model cannot read (a missing MuJoCo sensor, an unknown kind)."""
+
+
+def pitch_degrees(quat: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Pitch (nose up positive, degrees) of (w, x, y, z) quaternions [..., 4]."""
+    w, x, y, z = np.moveaxis(quat, -1, 0)
+    with np.errstate(all="ignore"):
+        return -np.degrees(np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0)))
+
+
+@dataclass(frozen=True)
+class _Reader:
+    name: str
+    kind: str
+    columns: NDArray[np.intp]  # into a state row ("joint_velocity") or a sensordata row (others)
+    scale: float = 1.0
+    offset: float = 0.0
+    above: float | None = None
+    per_limb: bool = False
+
+
+class Sensing:
+    """Reads ``names`` of ``catalogue`` from records of ``model``: body sensors as [gaits], per-limb
+    ones as [gaits, limbs] (``limbs`` order). ``facts`` are the walker's numbers a ``read`` table
+    may name (``standing_height``, ``quarter_weight``)."""
+
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        catalogue: SensorCatalogue,
+        names: Collection[str],
+        *,
+        limbs: Sequence[str],
+        facts: Mapping[str, float],
+    ) -> None:
+        self.limbs = tuple(limbs)
+        self._readers = [
+            self._reader(model, sensor, facts)
+            for sensor in catalogue
+            if sensor.name in names and sensor.read.get("kind") != "oscillator"
+        ]
+
+    def _reader(self, model: mujoco.MjModel, sensor: Sensor, facts: Mapping[str, float]) -> _Reader:
+        read = dict(sensor.read)
+        kind = read.get("kind")
+        try:
+            if kind == "joint_velocity":
+                joint = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, read["joint"])
+                if joint < 0:
+                    raise SensingError(f"sensor {sensor.name}: the model has no joint {read['joint']!r}")
+                column = 1 + model.nq + int(model.jnt_dofadr[joint])  # qvel in a FULLPHYSICS state row
+                return _Reader(sensor.name, kind, np.array([column]), float(read.get("scale", 1.0)))
+            names = (
+                [read["sensor"].format(limb=limb) for limb in self.limbs]
+                if sensor.per_limb
+                else [read["sensor"]]
+            )
+            starts = [self._sensor_start(model, sensor.name, name) for name in names]
+            if kind == "sensor":
+                index = int(read.get("index", 0))
+                minus = float(facts[read["minus"]]) if "minus" in read else 0.0
+                return _Reader(sensor.name, kind, np.array([s + index for s in starts]), offset=-minus)
+            if kind == "pitch":
+                return _Reader(sensor.name, kind, np.arange(starts[0], starts[0] + 4))
+            if kind == "touch":
+                above = read.get("above")
+                scale = 1.0 / float(facts[read["per"]]) if "per" in read else 1.0
+                return _Reader(
+                    sensor.name,
+                    kind,
+                    np.array(starts),
+                    scale,
+                    above=None if above is None else float(above),
+                    per_limb=sensor.per_limb,
+                )
+        except KeyError as missing:
+            raise SensingError(f"sensor {sensor.name}: its read table lacks {missing}") from None
+        raise SensingError(f"sensor {sensor.name}: unknown read kind {kind!r}")
+
+    @staticmethod
+    def _sensor_start(model: mujoco.MjModel, sensor: str, name: str) -> int:
+        index = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SENSOR, name)
+        if index < 0:
+            raise SensingError(f"sensor {sensor}: the model has no MuJoCo sensor {name!r}")
+        return int(model.sensor_adr[index])
+
+    def read(
+        self, state: NDArray[np.float64], sensordata: NDArray[np.float64]
+    ) -> dict[str, NDArray[np.float64]]:
+        """The readings at one step of each gait: ``state`` [gaits, nstate], ``sensordata``
+        [gaits, nsensordata]."""
+        readings: dict[str, NDArray[np.float64]] = {}
+        for reader in self._readers:
+            if reader.kind == "joint_velocity":
+                readings[reader.name] = state[:, reader.columns[0]] * reader.scale
+            elif reader.kind == "pitch":
+                readings[reader.name] = pitch_degrees(sensordata[:, reader.columns])
+            elif reader.kind == "sensor":
+                readings[reader.name] = sensordata[:, reader.columns[0]] + reader.offset
+            else:  # touch
+                values = sensordata[:, reader.columns]
+                if reader.above is not None:
+                    values = (values > reader.above).astype(np.float64)
+                else:
+                    values = values * reader.scale
+                readings[reader.name] = values if reader.per_limb else values[:, 0]
+        return readings
+
+
+def touchdown_reader(
+    model: mujoco.MjModel, sensor: Sensor, limbs: Sequence[str]
+) -> tuple[NDArray[np.intp], float, float]:
+    """An oscillator's touchdown: the touch sensors' columns per limb, the force above which a hoof
+    is down, and how long it must have been up for its landing to count (s)."""
+    read = sensor.read
+    try:
+        columns = np.array(
+            [Sensing._sensor_start(model, sensor.name, read["sensor"].format(limb=limb)) for limb in limbs]
+        )
+        return columns, float(read["above"]), float(read.get("airborne_seconds", 0.0))
+    except KeyError as missing:
+        raise SensingError(f"sensor {sensor.name}: its read table lacks {missing}") from None
