@@ -171,7 +171,8 @@ class Oscillators:
         self.actuation = actuation
         limbs = len(actuation.limbs)
         self.shift = np.zeros((gaits, limbs))  # added to the unwrapped clock
-        self.airborne = np.zeros((gaits, limbs))  # seconds each hoof has been up
+        #: Per hoof, seconds since a tick last saw it down (0 while it is down).
+        self.airborne = np.zeros((gaits, limbs))
         self._last_step = 0
 
     def tick(
@@ -186,8 +187,9 @@ class Oscillators:
         elapsed = (step - self._last_step) * self.actuation.timestep
         self._last_step = step
         down = sensordata[:, self.touch_columns] > self.above  # [ids, limbs]
-        airborne = self.airborne[ids] + elapsed
-        landed = down & (airborne >= self.airborne_needed) & (step > 0)
+        was_up = self.airborne[ids] > 0  # seen up at the last tick (a hoof down reads 0)
+        airborne = np.where(was_up | ~down, self.airborne[ids] + elapsed, 0.0)
+        landed = down & was_up & (airborne >= self.airborne_needed)
         if landed.any():
             # The limb's unwrapped clock at this step, as :meth:`Actuation.clock` computes it.
             limb_offsets = self._limb_offsets()
@@ -309,7 +311,8 @@ class ClosedLoop:
         if "t" in self.variables:
             phases["t"] = np.mod(clock, 1.0)  # type: ignore[arg-type]
         if self.oscillators is not None:
-            self.oscillators.tick(ids, first, sensordata, frequencies)
+            if first % self.tick == 0:  # the tick's first part (a chunk's end may cut a tick in two)
+                self.oscillators.tick(ids, first, sensordata, frequencies)
             phases["phase"] = self.oscillators.phases(ids, clock)  # type: ignore[arg-type]
         position = np.full(len(self.frequencies), -1)
         position[ids] = np.arange(len(ids))

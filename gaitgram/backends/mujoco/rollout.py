@@ -36,8 +36,9 @@ _RECORD = int(STATE_SPEC)
 
 
 class Controller(Protocol):
-    """Controls for the simulations ``ids`` (positions in the group) at steps ``first..last-1``,
-    from the state and sensors recorded at the step before ``first`` ([ids, ...]); and the gaits
+    """Controls for the simulations ``ids`` (positions in the group) at steps ``first..last-1`` (within
+    one tick), from the state and sensors recorded at the step before the tick began ([ids, ...]:
+    a tick cut by a chunk's end reads the same state in both parts); and the gaits
     (positions in ``ids``) whose controls could not be computed, each with what failed. ``tick``
     is how many steps a closed loop holds its controls (None: open loop, any range at once)."""
 
@@ -168,9 +169,12 @@ class BatchRollout:
             control = np.empty((len(alive), last - first, self.model.nu))
             errors: dict[int, str] = {}
             failures: dict[int, tuple[int, str]] = {}
-            tick = controller.tick or (last - first)
-            for start in range(first, last, tick):
-                stop = min(start + tick, last)
+            # Ticks at whole multiples of ``tick`` from step 0, whatever the chunks: a closed loop
+            # reads the same steps however its simulation is cut.
+            tick = controller.tick or self.chunk_steps
+            start = first
+            while start < last:
+                stop = min((start // tick + 1) * tick, last)
                 held, failed = controller.controls(alive, start, stop, last_state[alive], last_sensors[alive])
                 for position, what in failed.items():
                     failures.setdefault(position, (start, what))
@@ -201,9 +205,10 @@ class BatchRollout:
                     state[:, start - first : stop - first] = out[_RECORD]
                     sensors[:, start - first : stop - first] = out["sensordata"]
                 control[:, start - first : stop - first] = held
-                if controller.tick is not None:
+                if controller.tick is not None and stop % tick == 0:  # a tick's end: the next reads here
                     last_state[alive] = state[:, stop - first - 1]
                     last_sensors[alive] = sensors[:, stop - first - 1]
+                start = stop
             self.simulated_steps += len(alive) * (last - first)
             failed_now = observe(alive, first, state, sensors, control, sim.warning[alive], errors, failures)
             alive = alive[~failed_now & (ends[alive] > last)]

@@ -53,7 +53,7 @@ from gaitgram.backends.api import WORST_FITNESS, Evaluation, GaitStatus, unusabl
 from gaitgram.backends.mujoco.control import Actuation, ClosedLoop, OpenLoop, Oscillators
 from gaitgram.backends.mujoco.rollout import BatchRollout, Forces
 from gaitgram.backends.mujoco.sensing import Sensing, touchdown_reader
-from gaitgram.backends.mujoco_horse.joints import SENSORS
+from gaitgram.backends.mujoco_horse.joints import CATALOGUE, SENSORS
 from gaitgram.backends.mujoco_horse.measures import (
     HOOVES,
     CycleMeasures,
@@ -419,7 +419,7 @@ class HorseEvaluator:
     def _evaluate(
         self, batch: MotionBatch, weights: Mapping[str, float] | None, cycles: int | None
     ) -> list[Evaluation]:
-        results: dict[int, Evaluation] = unusable_evaluations(batch)
+        results: dict[int, Evaluation] = {**unusable_evaluations(batch), **unreadable_evaluations(batch)}
         rows = np.array([g for g in range(len(batch)) if g not in results], dtype=np.intp)
         if len(rows):
             active = weights_in_force(weights, self.settings.weights)
@@ -807,6 +807,31 @@ class _OpenController:
         table = self.table if everyone else self.table[ids]
         own = self.own if self.own is None or everyone else self.own[ids]
         return self.open_loop.controls(table, self.samples, first, last, own), {}
+
+
+def unreadable_evaluations(batch: MotionBatch) -> dict[int, Evaluation]:
+    """The gaits whose closed loops read a sensor their joint cannot (a hoof's load in a neck curve),
+    already scored: index -> evaluation (the linter says so before a run)."""
+    found: dict[int, Evaluation] = {}
+    if batch.loops is None:
+        return found
+    for g, row in enumerate(batch.loops):
+        for joint, loop in zip(batch.joints, row, strict=True):
+            if loop is None or batch.problems[g] is not None:
+                continue
+            known = CATALOGUE.get(joint)
+            group = known.group if known is not None else ""
+            for name in sorted(loop.sensors | loop.variables):
+                sensor = SENSORS.get(name)
+                if sensor is not None and not sensor.readable_by(group):
+                    found[g] = Evaluation.unviable(
+                        GaitStatus.INVALID_MOTION,
+                        f"{joint}: reads {name!r}, a limb's sensor, but {joint} drives no limb",
+                    )
+                    break
+            if g in found:
+                break
+    return found
 
 
 def _closed(batch: MotionBatch, rows: np.ndarray) -> bool:
