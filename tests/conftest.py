@@ -4,7 +4,9 @@ curve-match problem the evolution, strategy and study tests run."""
 from __future__ import annotations
 
 import os
+import shutil
 import signal
+import tempfile
 import threading
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -83,6 +85,45 @@ mutation = 0.2
 
 settings.register_profile("ci", deadline=None, suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile("ci")
+
+#: What the session's private home keeps of the real one, as links: the tools' settings (where
+#: their registries and mirrors are, who commits) and the package managers' download caches, so
+#: that git, pip, npm and pre-commit in the tests work as they do for the user. Nothing of gaitgram's.
+CARRIED_FROM_HOME = (
+    *(".gitconfig", ".config/git", ".netrc"),
+    *(".config/pip", ".pip", ".pypirc"),
+    *(".npmrc", ".npm"),
+)
+CARRIED_FROM_CACHE = ("pip",)
+_PRIVATE_HOME = pytest.StashKey[tuple[Path, dict[str, str | None]]]()
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """HOME and XDG_CACHE_HOME are a directory of this session's own (mode 0700) from before the
+    tests are collected, for this process and every subprocess: the suite never writes into the
+    user's cache (``~/.cache/gaitgram``, the parser cache) or home."""
+    real_home = Path(os.path.expanduser("~"))
+    real_cache = Path(os.environ.get("XDG_CACHE_HOME") or real_home / ".cache")
+    home = Path(tempfile.mkdtemp(prefix="gaitgram-tests-home-"))  # 0700
+    cache = home / ".cache"
+    cache.mkdir(mode=0o700)
+    carried = [(real_home, home, name) for name in CARRIED_FROM_HOME]
+    for real, private, name in [*carried, *((real_cache, cache, name) for name in CARRIED_FROM_CACHE)]:
+        if (real / name).exists():
+            (private / name).parent.mkdir(mode=0o700, parents=True, exist_ok=True)
+            (private / name).symlink_to(real / name)
+    config.stash[_PRIVATE_HOME] = home, {name: os.environ.get(name) for name in ("HOME", "XDG_CACHE_HOME")}
+    os.environ.update(HOME=str(home), XDG_CACHE_HOME=str(cache))
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    home, saved = config.stash[_PRIVATE_HOME]
+    for name, value in saved.items():
+        if value is None:
+            os.environ.pop(name, None)
+        else:
+            os.environ[name] = value
+    shutil.rmtree(home, ignore_errors=True)
 
 
 def vector_grammars() -> list[Path]:

@@ -3,16 +3,13 @@ language's syntax (the range look-alike finder, the rewrites), so it is written 
 
 from __future__ import annotations
 
-import os
 import re
-import sys
 from functools import cache
-from pathlib import Path
 
-import lark
 from lark import Lark, Token, Tree
 
 from gaitgram.language.lexer import GgLexer, KeepScannerTerminals, Scanner
+from gaitgram.language.parser_cache import cached_lark
 from gaitgram.packaged import packaged
 
 
@@ -21,33 +18,16 @@ def grammar_text() -> str:
     return packaged(__package__, "gaitgram.lark").read_text(encoding="utf-8")
 
 
-def cache_file(name: str) -> str | bool:
-    """Where lark keeps the analysed parser ``name`` between processes (25 ms of ``gaitgram
-    check``'s start-up otherwise): the user's own cache directory, never a shared temporary one,
-    since lark stores it as a pickle. Lark checks the grammar's digest and rebuilds a stale or
-    unreadable file; ``False`` (no cache) where there is no writable place."""
-    try:
-        root = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-        directory = Path(root) / "gaitgram"
-        directory.mkdir(mode=0o700, parents=True, exist_ok=True)
-    except (OSError, RuntimeError):  # RuntimeError: no home directory to be found
-        return False
-    if not os.access(directory, os.W_OK):
-        return False
-    python = "".join(map(str, sys.version_info[:2]))
-    return str(directory / f"{name}-lark{lark.__version__}-py{python}.parser")
-
-
 @cache
 def document_parser() -> Lark:
-    return Lark(
+    return cached_lark(
+        "document",
         grammar_text(),
         start="start",
         parser="lalr",
         lexer=GgLexer,
         postlex=KeepScannerTerminals(),
         maybe_placeholders=False,
-        cache=cache_file("document"),
     )
 
 
@@ -59,9 +39,7 @@ def scanner() -> Scanner:
 
 @cache
 def range_parser() -> Lark:
-    return Lark(
-        grammar_text(), start="range_spec", parser="lalr", lexer="contextual", cache=cache_file("range")
-    )
+    return cached_lark("range", grammar_text(), start="range_spec", parser="lalr", lexer="contextual")
 
 
 @cache
