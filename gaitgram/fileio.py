@@ -15,7 +15,11 @@ that an hour of rendering never ends in "no such directory".
 Directories that must appear whole (a run directory, a study directory) are built
 under a temporary name beside their target and renamed into place
 (:func:`created_directory`); one process at a time works in such a directory
-(:class:`DirectoryLock`).
+(:class:`DirectoryLock`). Several files that must change together (a report's
+tables, figures and page; an animation and its strip) are made in a staging
+directory and swapped in at once (:func:`swapped_files`): an interruption leaves
+all of them old or all new, and what a kill -9 cut short is put back by the next
+swap (:func:`recover_swaps`).
 """
 
 from __future__ import annotations
@@ -23,11 +27,15 @@ from __future__ import annotations
 import contextlib
 import errno
 import fcntl
+import json
 import os
 import shutil
+import signal
 import stat
 import tempfile
-from collections.abc import Iterator, Sequence
+import threading
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from types import TracebackType
 from typing import BinaryIO
@@ -201,21 +209,87 @@ def write_output(path: Path, data: str | bytes) -> None:
             _write_in_place(target, payload, copy=False)
 
 
-def write_outputs(files: Sequence[tuple[Path, str | bytes]]) -> None:
-    """Write several outputs (:func:`write_output`), in order, as one: if one fails, the files this
-    call created are removed again, and the error names that output's path as given (never a
-    temporary file beside it). Files it replaced keep their new content."""
-    made: list[Path] = []
+def write_outputs(
+    files: Sequence[tuple[Path, str | bytes]], notice: Callable[[str], None] | None = None
+) -> None:
+    """Write several outputs (:func:`write_output`) as one: every one of them is replaced, or none.
+
+    The regular files (new ones, and existing ones with one link in a directory this process may
+    create files in) are made in a staging directory beside their targets (past symlinks),
+    keeping an existing file's mode and owner, and swapped in together (:func:`swapped_files`, one
+    swap a directory, done last): a failure (a full disk), Ctrl-C or a kill -9 leaves all of them
+    old or all new. Only for outputs in two directories can a kill -9 between the two swaps leave
+    one directory's files new. Devices, streams (``/dev/stdout``) and files with several hard
+    links cannot be swapped: they are written in place, as :func:`write_output` writes them,
+    before the swaps. An error names the output's path as given; ``notice`` hears what an
+    interrupted earlier swap into the same directory left and how it was mended. Ctrl-C waits
+    until all are written (their content is made already: this is only writing it), then raises
+    :class:`KeyboardInterrupt`.
+    """
+    with interrupts_deferred():
+        if len(files) == 1:
+            path, data = files[0]
+            try:
+                write_output(path, data)
+            except OSError as error:
+                raise _naming(error, path) from error
+        else:
+            _write_together(files, notice)
+
+
+def _write_together(files: Sequence[tuple[Path, str | bytes]], notice: Callable[[str], None] | None) -> None:
+    swapped: dict[Path, list[tuple[Path, Path, bytes]]] = {}
+    in_place: list[tuple[Path, bytes]] = []
     for path, data in files:
-        new = not os.path.lexists(path)
+        payload = data.encode("utf-8") if isinstance(data, str) else data
+        target = Path(os.path.realpath(path))
         try:
-            write_output(path, data)
+            plain = not is_stream(path) and _swappable(target)
         except OSError as error:
-            for done in made:
-                done.unlink(missing_ok=True)
             raise _naming(error, path) from error
-        if new:
-            made.append(path)
+        if not plain:
+            in_place.append((path, payload))
+        else:
+            swapped.setdefault(target.parent, []).append((path, target, payload))
+    with contextlib.ExitStack() as stack:
+        for directory, outputs in swapped.items():
+            if not directory.is_dir():  # as open() would: a typo creates no directories
+                path = outputs[0][0]
+                raise OSError(errno.ENOENT, os.strerror(errno.ENOENT), str(path))
+            staging = stack.enter_context(swapped_files(directory, notice))
+            for path, target, payload in outputs:
+                try:
+                    _stage(staging.path / target.name, target, payload)
+                except OSError as error:
+                    raise _naming(error, path) from error
+        for path, payload in in_place:
+            try:
+                write_output(path, payload)
+            except OSError as error:
+                raise _naming(error, path) from error
+
+
+def _stage(new: Path, target: Path, payload: bytes) -> None:
+    """The new file for ``target``, with the mode and owner of the file it replaces, if any."""
+    try:
+        info = target.stat()
+    except FileNotFoundError:
+        write_atomically(new, payload, parents=False)
+        return
+    owner = (info.st_uid, info.st_gid)
+    write_atomically(new, payload, mode=stat.S_IMODE(info.st_mode), owner=owner, parents=False)
+
+
+def _swappable(target: Path) -> bool:
+    """A new file, or a regular one with one link, in a directory this process may create files in
+    (else it is written in place); a directory raises :class:`IsADirectoryError`."""
+    try:
+        info = target.stat()
+    except FileNotFoundError:
+        return True
+    if stat.S_ISDIR(info.st_mode):
+        raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(target))
+    return stat.S_ISREG(info.st_mode) and info.st_nlink == 1 and os.access(target.parent, os.W_OK | os.X_OK)
 
 
 def is_stream(path: Path) -> bool:
@@ -363,6 +437,17 @@ def is_empty_directory(path: Path) -> bool:
     return path.is_dir() and not path.is_symlink() and not any(path.iterdir())
 
 
+def _locked_temporary(parent: Path, prefix: str) -> tuple[Path, DirectoryLock]:
+    """A new directory in ``parent`` (``PREFIX``XXXX``.creating``, mode 0o700), locked while in use,
+    so that :func:`remove_abandoned` and :func:`recover_swaps` never take it for a dead one's."""
+    while True:
+        temporary = Path(tempfile.mkdtemp(dir=parent, prefix=prefix, suffix=CREATING_SUFFIX))
+        try:
+            return temporary, DirectoryLock(temporary)
+        except (DirectoryInUse, FileNotFoundError):  # another process took it for abandoned
+            continue
+
+
 @contextlib.contextmanager
 def created_directory(path: Path) -> Iterator[Path]:
     """A new directory at ``path`` that appears whole or not at all.
@@ -378,19 +463,14 @@ def created_directory(path: Path) -> Iterator[Path]:
         raise FileExistsError(errno.EEXIST, "exists and is not an empty directory", str(path))
     path.parent.mkdir(parents=True, exist_ok=True)
     remove_abandoned(path)
-    while True:
-        temporary = Path(tempfile.mkdtemp(dir=path.parent, prefix=f".{path.name}.", suffix=CREATING_SUFFIX))
-        try:
-            lock = DirectoryLock(temporary)
-        except (DirectoryInUse, FileNotFoundError):  # another attempt took it for abandoned
-            continue
-        break
+    temporary, lock = _locked_temporary(path.parent, f".{path.name}.")
     with lock:
         try:
             os.chmod(temporary, 0o777 & ~current_umask())  # as mkdir would make it, not mkdtemp's 0o700
             yield temporary
             try:
-                os.rename(temporary, path)  # onto nothing, or onto an empty directory
+                with interrupts_deferred():  # a Ctrl-C here is raised once the directory is in place
+                    os.rename(temporary, path)  # onto nothing, or onto an empty directory
             except OSError as error:
                 if error.errno in (errno.EEXIST, errno.ENOTEMPTY, errno.EISDIR, errno.ENOTDIR):
                     raise FileExistsError(
@@ -402,11 +482,13 @@ def created_directory(path: Path) -> Iterator[Path]:
             raise
 
 
-def remove_abandoned(path: Path) -> None:
-    """Remove the temporary directories that attempts to create ``path`` left when killed."""
+def remove_abandoned(path: Path) -> list[Path]:
+    """Remove the temporary directories that attempts to create ``path`` left when killed; those
+    removed."""
     prefix = f".{path.name}."
+    removed = []
     with contextlib.suppress(OSError):
-        for sibling in path.parent.iterdir():
+        for sibling in sorted(path.parent.iterdir()):
             name = sibling.name
             if not (name.startswith(prefix) and name.endswith(CREATING_SUFFIX)) or sibling.is_symlink():
                 continue
@@ -415,3 +497,207 @@ def remove_abandoned(path: Path) -> None:
                     shutil.rmtree(sibling, ignore_errors=True)
             except OSError:  # in use (a live attempt), or gone already
                 continue
+            removed.append(sibling)
+    return removed
+
+
+@contextlib.contextmanager
+def interrupts_deferred() -> Iterator[None]:
+    """Ctrl-C (SIGINT) during the block takes effect when it ends: steps that must all be taken,
+    or none, are not cut in two by it (if the block fails, its error is raised, not the Ctrl-C).
+    A kill -9 still can cut them: :func:`recover_swaps` mends that."""
+    if threading.current_thread() is not threading.main_thread():
+        yield  # signals reach the main thread only
+        return
+    caught: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield
+    finally:  # a block that failed says so; a Ctrl-C held then would only hide its error
+        signal.signal(signal.SIGINT, signal.default_int_handler if previous is None else previous)
+    if caught:
+        signal.raise_signal(signal.SIGINT)  # to whatever handled it before: KeyboardInterrupt
+
+
+# ---- files replaced together --------------------------------------------------------------------
+
+#: The prefix of a staging directory, made inside the directory its files will replace files in.
+STAGING_PREFIX = ".staging."
+#: In a staging directory: the names of its files, written before they are moved in and removed
+#: once all are in place (that removal is the moment the swap is done).
+MOVING_IN = ".moving-in.json"
+#: In a staging directory: the files a swap set aside, to put back if it is cut short.
+SET_ASIDE = ".set-aside"
+
+
+@dataclass
+class Staging:
+    """Where :func:`swapped_files` has the new files made (``path``), and whether they are in
+    place (``swapped``: a Ctrl-C during the swap is raised after it)."""
+
+    path: Path
+    swapped: bool = False
+
+
+@contextlib.contextmanager
+def swapped_files(directory: Path, notice: Callable[[str], None] | None = None) -> Iterator[Staging]:
+    """Files that appear in ``directory`` all at once, replacing the files of the same names.
+
+    Yields a :class:`Staging` whose ``path`` is an empty directory to make the new files in (files
+    only). When the block ends without error they go into ``directory``: if it does not exist, it
+    is made of them whole (:func:`created_directory`); else each file ``directory`` holds under a
+    new file's name is set aside (a hard link, or a rename where links fail) and the new file is
+    renamed over it, one swap at a time in a directory (``flock`` on it) and with Ctrl-C held
+    until the last is in place (:func:`interrupts_deferred`). Files of other names are left
+    alone. If the block fails (a full disk, Ctrl-C), the staging directory goes and
+    ``directory`` is as it was.
+
+    A kill -9 halfway through the renames leaves some files new: the next swap into
+    ``directory`` (or :func:`recover_swaps`, which it calls first and whose lines ``notice``
+    hears) puts back those set aside, so that what stays is all old or all new.
+    """
+    for note in recover_swaps(directory):
+        if notice is not None:
+            notice(note)
+    if not os.path.exists(directory):
+        staging = Staging(directory)
+        try:
+            with created_directory(directory) as building:
+                staging.path = building
+                yield staging
+            staging.swapped = True
+        except KeyboardInterrupt:  # before the rename (the block), or held until after it
+            staging.swapped = os.path.isdir(directory) and not os.path.exists(staging.path)
+            raise
+        finally:  # the lock it was built under: no one locks these files' directory by it
+            if staging.swapped:
+                with contextlib.suppress(OSError):
+                    os.unlink(directory / LOCK_FILE)
+        return
+    temporary, lock = _locked_temporary(directory, STAGING_PREFIX)
+    staging = Staging(temporary)
+    with lock:
+        try:
+            yield staging
+            _swap_in(staging, directory, notice)
+        finally:
+            with interrupts_deferred():  # removed whole: a Ctrl-C here leaves nothing to mend
+                shutil.rmtree(temporary, ignore_errors=True)
+
+
+def recover_swaps(directory: Path) -> list[str]:
+    """Mend what interrupted swaps into ``directory`` (:func:`swapped_files`) left: the files a
+    swap cut short by a kill -9 had replaced are put back (and its new files removed), staging
+    directories never swapped in are removed, and so is what an attempt to create ``directory``
+    whole left beside it. A line for each thing mended, to tell the user. Staging directories in
+    use (locked), or not this user's own, are left alone."""
+    notes = [f"removed {p}, left unfinished by an interrupted gaitgram" for p in remove_abandoned(directory)]
+    if not os.path.isdir(directory) or not os.access(directory, os.R_OK | os.X_OK):
+        return notes  # nothing of ours can be in it (a write there says why it cannot be made)
+    with _directory_locked(directory), interrupts_deferred():
+        return notes + _recover_staging(directory)
+
+
+def _recover_staging(directory: Path) -> list[str]:
+    """:func:`recover_swaps` inside ``directory``, whose ``flock`` is held."""
+    notes = []
+    for entry in sorted(os.scandir(directory), key=lambda e: e.name):
+        if not (entry.name.startswith(STAGING_PREFIX) and entry.name.endswith(CREATING_SUFFIX)):
+            continue
+        info = entry.stat(follow_symlinks=False)
+        if not stat.S_ISDIR(info.st_mode) or info.st_uid != os.geteuid() or info.st_mode & 0o022:
+            continue  # only a staging directory this user made (mkdtemp's 0o700) is mended
+        staging = Path(entry.path)
+        try:
+            lock = DirectoryLock(staging)
+        except OSError:  # a live swap's, or gone already
+            continue
+        with lock:
+            if os.path.lexists(staging / MOVING_IN):
+                put, removed = _put_back(staging, directory)
+                notes.append(
+                    f"an interrupted gaitgram left {directory} half-replaced: put back the {put} "
+                    f"file(s) it had replaced and removed the {removed} it had added"
+                )
+            elif os.path.lexists(staging / SET_ASIDE):
+                notes.append(
+                    f"removed {staging}, the files an interrupted gaitgram had replaced in {directory} "
+                    "(its new ones are in place)"
+                )
+            else:
+                notes.append(
+                    f"removed {staging}, the unfinished files of an interrupted gaitgram "
+                    f"({directory} was left as it was)"
+                )
+            shutil.rmtree(staging, ignore_errors=True)
+    return notes
+
+
+def _swap_in(staging: Staging, directory: Path, notice: Callable[[str], None] | None) -> None:
+    """Move the staging directory's files into ``directory`` (see :func:`swapped_files`), after
+    mending what a swap killed since the block began left."""
+    names = sorted(name for name in os.listdir(staging.path) if name != LOCK_FILE)
+    for name in names:
+        if not stat.S_ISREG(os.lstat(staging.path / name).st_mode):
+            raise IsADirectoryError(errno.EISDIR, "only files are swapped in", str(staging.path / name))
+        target = directory / name
+        if os.path.isdir(target) and not os.path.islink(target):
+            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(target))
+    with _directory_locked(directory) as descriptor, interrupts_deferred():
+        for note in _recover_staging(directory):  # its files put back after ours would undo ours
+            if notice is not None:
+                notice(note)
+        write_atomically(staging.path / MOVING_IN, json.dumps(names), parents=False)
+        aside = staging.path / SET_ASIDE
+        os.mkdir(aside)
+        try:
+            for name in names:
+                target = directory / name
+                if os.path.lexists(target):
+                    try:  # a link keeps the old file where readers look for it until it is replaced
+                        os.link(target, aside / name, follow_symlinks=False)
+                    except OSError:
+                        os.rename(target, aside / name)
+                os.replace(staging.path / name, target)
+        except BaseException:
+            _put_back(staging.path, directory)
+            raise
+        os.unlink(staging.path / MOVING_IN)  # done: from here a kill leaves the new files
+        staging.swapped = True
+        os.fsync(descriptor)
+
+
+def _put_back(staging: Path, directory: Path) -> tuple[int, int]:
+    """Undo a swap cut short: each file set aside goes back, each new file that replaced none is
+    removed; how many of each."""
+    try:
+        names = json.loads((staging / MOVING_IN).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        names = None
+    if not isinstance(names, list) or not all(
+        isinstance(n, str) and n not in ("", ".", "..") and "/" not in n and "\0" not in n for n in names
+    ):
+        raise OSError(errno.EINVAL, "an unreadable list of files; put them back by hand", str(staging))
+    put = removed = 0
+    for name in names:
+        kept, target = staging / SET_ASIDE / name, directory / name
+        if os.path.lexists(kept):
+            os.replace(kept, target)
+            put += 1
+        elif not os.path.lexists(staging / name) and os.path.lexists(target):
+            os.unlink(target)
+            removed += 1
+    os.unlink(staging / MOVING_IN)
+    return put, removed
+
+
+@contextlib.contextmanager
+def _directory_locked(directory: Path) -> Iterator[int]:
+    """An exclusive ``flock`` on ``directory`` itself (no lock file is added to it: it may be the
+    user's), held while files are swapped in or put back; its descriptor, to sync the renames."""
+    descriptor = os.open(directory, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+    try:
+        fcntl.flock(descriptor, fcntl.LOCK_EX)
+        yield descriptor
+    finally:
+        os.close(descriptor)

@@ -3,6 +3,7 @@ read a genome, and check and write their outputs."""
 
 from __future__ import annotations
 
+import os
 import re
 import sys
 from pathlib import Path
@@ -60,18 +61,57 @@ def check_output(
         raise fail(str(error)) from None
 
 
+def mend_outputs(*paths: Path, directory: bool = False) -> None:
+    """Before anything else: put back what an interrupted gaitgram left half-replaced where these
+    outputs go (:func:`gaitgram.fileio.recover_swaps`: in the directory of each file, or in each
+    ``directory``), saying what was mended."""
+    real = [Path(os.path.realpath(path)) for path in paths if not fileio.is_stream(path)]
+    places = set(real) if directory else {path.parent for path in real}
+    for place in sorted(places):
+        try:
+            notes = fileio.recover_swaps(place)
+        except OSError as error:
+            raise fail(f"cannot mend {error.filename or place}: {describe_os_error(error)}") from None
+        for note in notes:
+            err.print(note)
+
+
 def write_or_exit(path: Path, data: str | bytes) -> None:
     """Write an output file safely (:func:`gaitgram.fileio.write_output`), or say why not and exit 2."""
     write_all_or_exit([(path, data)])
 
 
 def write_all_or_exit(files: list[tuple[Path, str | bytes]]) -> None:
-    """Write several outputs as one (:func:`gaitgram.fileio.write_outputs`: none left half-made),
-    or say which could not be written and why, and exit 2."""
+    """Write several outputs as one (:func:`gaitgram.fileio.write_outputs`: all new or all as they
+    were), or say which could not be written and why, and exit 2; after a Ctrl-C (held until they
+    are written), say so and exit 130."""
     try:
-        fileio.write_outputs(files)
+        fileio.write_outputs(files, notice=err.print)
     except OSError as error:
         raise fail(f"cannot write {error.filename}: {describe_os_error(error)}") from None
+    except KeyboardInterrupt:
+        paths = [path for path, _ in files]
+        were = "was" if len(paths) == 1 else "were"
+        raise interrupted(f"{_listing(paths)} {were} written whole before it took effect") from None
+
+
+def interrupted(what: str) -> typer.Exit:
+    """Say that Ctrl-C stopped the command and what its outputs hold now; the exit to raise (130)."""
+    err.print(f"interrupted: {what}", style="bold yellow")
+    return typer.Exit(130)
+
+
+def as_they_were(paths: list[Path]) -> str:
+    """What a command stopped before writing left: its outputs, each as it was or not made."""
+    kept = [p for p in paths if fileio.is_stream(p) or p.exists() or p.is_symlink()]
+    missing = [p for p in paths if p not in kept]
+    parts = [f"{_listing(kept)} {'is' if len(kept) == 1 else 'are'} as before"] if kept else []
+    parts += [f"{_listing(missing)} {'was' if len(missing) == 1 else 'were'} not made"] if missing else []
+    return "nothing was written; " + ", ".join(parts)
+
+
+def _listing(paths: list[Path]) -> str:
+    return " and ".join(map(str, paths))
 
 
 def load_usable(path: Path, defines: dict[str, int]) -> CheckResult:

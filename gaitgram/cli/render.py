@@ -12,7 +12,15 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from gaitgram import fileio
-from gaitgram.cli.common import check_output, err, fail, write_all_or_exit
+from gaitgram.cli.common import (
+    as_they_were,
+    check_output,
+    err,
+    fail,
+    interrupted,
+    mend_outputs,
+    write_all_or_exit,
+)
 from gaitgram.cli.options import Defines, Walk
 from gaitgram.cli.selection import (
     Codons,
@@ -107,9 +115,11 @@ def command(
     try:
         chosen = select_gait(run, grammar, genome, genome_file, generation, config, overrides, defines, walk)
         shown, beside = _gaits(chosen, compare)
+        animation, movie, pictures = _render(output, fps, shown, beside)
     except SelectionError as error:
         raise fail(str(error)) from None
-    animation, movie, pictures = _render(output, fps, shown, beside)
+    except KeyboardInterrupt:
+        raise interrupted(as_they_were([output, strip])) from None
     write_all_or_exit([(output, movie), (strip, pictures)])
     what = chosen.describe + (f", beside {beside.label}" if beside is not None else "")
     err.print(f"wrote {output} ({len(animation)} frames) and {strip}; {what}")
@@ -125,6 +135,7 @@ def _check_outputs(output: Path, strip: Path | None, force: bool) -> Path:
     except (RenderError, MissingExtra) as error:
         raise fail(str(error)) from None
     strip = strip or output.with_suffix(".png")
+    mend_outputs(output, strip)  # a swap cut short there is put back before they are checked
     check_output(output, force=force, flag="-o")
     check_output(strip, force=force, flag="--strip")
     if not fileio.is_stream(strip) and os.path.realpath(strip) == os.path.realpath(output):

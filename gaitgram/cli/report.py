@@ -9,10 +9,10 @@ from typing import Annotated
 
 import typer
 
-from gaitgram.cli.common import check_output, err, fail, require_extra
+from gaitgram.cli.common import check_output, err, fail, interrupted, mend_outputs, require_extra
 from gaitgram.study.gallery import GalleryError
 from gaitgram.study.records import ReportError
-from gaitgram.study.report import make_report, watch_report
+from gaitgram.study.report import ReportInterrupted, make_report, watch_report
 
 _Directories = Annotated[
     list[Path],
@@ -46,7 +46,8 @@ _Watch = Annotated[
     typer.Option(
         "--watch",
         help="Follow a study still running: report the runs finished so far, again each time "
-        "another finishes, until all have (report.html reloads itself meanwhile); Ctrl-C stops.",
+        "another finishes, until all have (report.html reloads itself meanwhile); Ctrl-C stops, "
+        "leaving the report so far, no longer reloading.",
     ),
 ]
 _Interval = Annotated[
@@ -111,6 +112,7 @@ def command(
         os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is imported
         require_extra("PIL", "animations")
     check_output(out, force=False, directory=True, parents=True, flag="-o")  # before reading the runs
+    mend_outputs(out, directory=True)  # a report cut short there is put back first
     report = functools.partial(watch_report, interval=interval) if watch else make_report
     try:
         written = report(
@@ -126,6 +128,8 @@ def command(
         )
     except (ReportError, GalleryError) as error:
         raise fail(str(error)) from None
+    except ReportInterrupted as stop:  # Ctrl-C: what the output directory holds now
+        raise interrupted(str(stop)) from None
     except OSError as error:
         raise fail(f"cannot write the report in {out}: {error.strerror or error}") from None
     typer.echo((out / "summary.md").read_text(encoding="utf-8"), nl=False)

@@ -15,7 +15,10 @@ The report is made in stages, each its own module:
 - :mod:`~gaitgram.study.formats` (Markdown, CSV, LaTeX, JSON),
   :mod:`~gaitgram.study.html`, :mod:`~gaitgram.study.figures` and
   :mod:`~gaitgram.study.gallery` (GIFs) draw it;
-- this module writes it, whole or not at all.
+- this module writes it, whole or not at all: made in a staging directory and swapped
+  into the output directory at once (:func:`gaitgram.fileio.swapped_files`), so that an
+  interrupted report (Ctrl-C, a full disk, kill -9) leaves the old report or the new one,
+  never some files of each.
 
 Written files: ``summary.md``, ``summary.csv``, ``tables.tex``,
 ``summary.json``, ``convergence.png`` and ``convergence.svg``; for an arm whose
@@ -33,12 +36,20 @@ the real walks' band), of trade-off gaits and of repertoire cells; last,
 from __future__ import annotations
 
 import contextlib
+import os
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
-from gaitgram.fileio import OutputError, check_output, write_atomically
+from gaitgram.fileio import (
+    OutputError,
+    check_output,
+    interrupts_deferred,
+    recover_swaps,
+    swapped_files,
+    write_atomically,
+)
 from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts, load_repertoire
 from gaitgram.study.assess import assess_arms
 from gaitgram.study.figures import draw, rendered
@@ -61,6 +72,15 @@ from gaitgram.study.model import (
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable, load_arms
 
 HTML = "report.html"
+
+
+class ReportInterrupted(KeyboardInterrupt):
+    """Ctrl-C while a report was made; the message says what the output directory holds now,
+    ``written`` whether the new report is in it."""
+
+    def __init__(self, message: str, *, written: bool = False) -> None:
+        super().__init__(message)
+        self.written = written
 
 
 def study_report(
@@ -135,34 +155,70 @@ def write_report(
     *,
     force: bool = False,
     refresh: float | None = None,
+    progress: Callable[[str], None] | None = None,
 ) -> list[Path]:
     """The whole report, tables, figures, GIFs and page (reloading itself every ``refresh``
-    seconds, for a study still running), or none of it: every file is checked first
-    (an existing one needs ``force``), and if anything fails (a GIF that cannot be rendered, a
-    full disk, Ctrl-C) the files and directories made so far are removed again. Each file is
-    replaced at once: a reader never sees half of one."""
-    planned = report_files(report, out)
+    seconds, for a study still running), or none of it. Every file is checked first (an existing
+    one needs ``force``); all are made in a staging directory and swapped into ``out`` at once
+    (:func:`gaitgram.fileio.swapped_files`), so that whatever stops it (a GIF that cannot be
+    rendered, a full disk, Ctrl-C, kill -9) ``out`` holds the old report or the new one, never
+    files of each; directories made for it go again. What an interrupted report left is mended
+    first, and ``progress`` hears how. Ctrl-C raises :class:`ReportInterrupted`, a full disk a
+    :class:`ReportError`, each saying what ``out`` holds."""
+    return _write(report, out, force=force, refresh=refresh, progress=progress, images={})
+
+
+def _write(
+    report: StudyReport,
+    out: Path,
+    *,
+    force: bool,
+    refresh: float | None,
+    progress: Callable[[str], None] | None,
+    images: dict[str, bytes],
+    redraw: bool = True,
+) -> list[Path]:
+    """:func:`write_report`, filling ``images`` with the figures' files by name, for the page;
+    without ``redraw``, ``images`` holds them already, as ``out`` does: only the tables and the
+    page are made again (a watched report that stops reloading)."""
+    for note in recover_swaps(out):  # before the checks: a half-replaced report is put back first
+        if progress:
+            progress(note)
+    names = [*text_files(report), *(n for f in report.figures for n in f.files if redraw), HTML]
     try:
-        for path in planned:
-            check_output(path, force=force, parents=True, flag="-o")
+        for name in names:
+            check_output(out / name, force=force, parents=True, flag="-o")
     except OutputError as error:
         raise ReportError(str(error)) from None
-    made = [d for d in (out, *out.parents) if not d.exists()]
-    new = [path for path in planned if not path.exists()]
+    made = [d for d in out.parents if not d.exists()]  # out itself appears whole, or not at all
+    staging = None
     try:
-        out.mkdir(parents=True, exist_ok=True)
-        for name, text in text_files(report).items():
-            write_atomically(out / name, text)
-        images = _draw_figures(report, out)
-        write_atomically(out / HTML, html(report, images, refresh=refresh))
-        return planned
-    except BaseException:
-        for path in new:
-            path.unlink(missing_ok=True)
+        with swapped_files(out, progress) as staging:
+            for name, text in text_files(report).items():
+                write_atomically(staging.path / name, text)
+            if redraw:
+                images.update(_draw_figures(report, staging.path))
+            write_atomically(staging.path / HTML, html(report, images, refresh=refresh))
+    except BaseException as error:
+        if staging is not None and staging.swapped:
+            if isinstance(error, KeyboardInterrupt):
+                raise ReportInterrupted(f"the report was written whole in {out}", written=True) from None
+            raise
         for directory in made:  # innermost first
             with contextlib.suppress(OSError):
                 directory.rmdir()
+        if isinstance(error, KeyboardInterrupt):
+            raise ReportInterrupted(f"the report was not written; {as_it_was(out)}") from None
+        if isinstance(error, OSError):
+            reason = error.strerror or str(error)
+            raise ReportError(f"cannot write the report in {out}: {reason}; {as_it_was(out)}") from None
         raise
+    return report_files(report, out)
+
+
+def as_it_was(out: Path) -> str:
+    """What a report that was not written left: ``out`` untouched, or not made."""
+    return f"{out} is as it was" if os.path.lexists(out) else f"{out} was not made"
 
 
 def _draw_figures(report: StudyReport, out: Path) -> dict[str, bytes]:
@@ -200,14 +256,19 @@ def make_report(
     """``gaitgram report``: the report of study or run directories whose runs have all finished
     (each arm's first ``runs``, if given), written to ``out``; the files written. With ``assess``,
     each run's best gait is first measured where its kept assessment is missing or stale
-    (simulation; :mod:`gaitgram.study.assess`)."""
-    arms, title = load_arms(directories, runs=runs)
-    check_comparable(arms, mixed_scoring=mixed_scoring)  # before anything is made
-    if assess:
-        assess_arms(arms, progress=progress)
-    report = study_report(arms, title=title, gaits=gaits, chosen=chosen, mixed_scoring=mixed_scoring)
-    report = _with_window(report, arms)
-    return write_report(report, out, force=force)
+    (simulation; :mod:`gaitgram.study.assess`). Ctrl-C raises :class:`ReportInterrupted`."""
+    try:
+        arms, title = load_arms(directories, runs=runs)
+        check_comparable(arms, mixed_scoring=mixed_scoring)  # before anything is made
+        if assess:
+            assess_arms(arms, progress=progress)
+        report = study_report(arms, title=title, gaits=gaits, chosen=chosen, mixed_scoring=mixed_scoring)
+        report = _with_window(report, arms)
+        return write_report(report, out, force=force, progress=progress)
+    except ReportInterrupted:
+        raise
+    except KeyboardInterrupt:
+        raise ReportInterrupted(f"the report was not written; {as_it_was(out)}") from None
 
 
 def window_section(arms: Sequence[ArmRecord]) -> Section | None:
@@ -235,9 +296,10 @@ def _with_window(report: StudyReport, arms: Sequence[ArmRecord]) -> StudyReport:
     return report if window is None else replace(report, sections=(window, *report.sections))
 
 
-def progress_section(arms: Sequence[ArmRecord], planned: int, interval: float) -> Section | None:
+def progress_section(arms: Sequence[ArmRecord], planned: int, interval: float | None) -> Section | None:
     """What a page of a study still running says first: how many of the ``planned`` runs have
-    finished; None when all have."""
+    finished, and that it reloads itself every ``interval`` seconds (None: the watch was
+    stopped); None when all have finished."""
     finished = sum(len(a.runs) for a in arms)
     if finished >= planned:
         return None
@@ -248,8 +310,13 @@ def progress_section(arms: Sequence[ArmRecord], planned: int, interval: float) -
         f"{finished} of {planned} runs finished",
         text=(
             f"Everything below is over the runs finished so far ({per_arm}); arms with none yet are left "
-            f"out. `gaitgram report --watch` makes it again as runs finish, and this page reloads itself "
-            f"every {interval:g} s."
+            + (
+                f"out. `gaitgram report --watch` makes it again as runs finish, and this page reloads "
+                f"itself every {interval:g} s."
+                if interval is not None
+                else "out. `gaitgram report --watch` was stopped here and this page no longer reloads "
+                "itself; the same command again follows the study."
+            )
         ),
     )
 
@@ -274,30 +341,96 @@ def watch_report(
     last."""
     seen: tuple[tuple[str, tuple[int, ...]], ...] | None = None
     written: list[Path] = []
-    while True:
-        arms, title = load_arms(directories, finished_only=True, runs=runs)
-        state = tuple((a.name, a.numbers) for a in arms)
-        planned = _planned(directories, runs)
-        done = sum(len(a.runs) for a in arms) >= planned
-        if arms and state != seen:
-            check_comparable(arms, mixed_scoring=mixed_scoring)
-            if assess:
-                assess_arms(arms, progress=progress)
-            report = study_report(arms, title=title, gaits=gaits, chosen=chosen, mixed_scoring=mixed_scoring)
-            report = _with_window(report, arms)
-            ongoing = None if done else progress_section(arms, planned, interval)
-            if ongoing is not None:
-                report = replace(report, sections=(ongoing, *report.sections))
-            written = write_report(
-                report, out, force=force or seen is not None, refresh=None if done else interval
-            )
-            seen = state
-            if progress:
-                finished = sum(len(a.runs) for a in arms)
-                progress(f"{finished} of {planned} runs finished: wrote {out / HTML}")
-        if done:
-            return written
-        sleep(interval)
+    shown: _Shown | None = None  # the page out holds, while it reloads itself
+    try:
+        while True:
+            arms, title = load_arms(directories, finished_only=True, runs=runs)
+            state = tuple((a.name, a.numbers) for a in arms)
+            planned = _planned(directories, runs)
+            done = sum(len(a.runs) for a in arms) >= planned
+            if arms and state != seen:
+                check_comparable(arms, mixed_scoring=mixed_scoring)
+                if assess:
+                    assess_arms(arms, progress=progress)
+                report = study_report(
+                    arms, title=title, gaits=gaits, chosen=chosen, mixed_scoring=mixed_scoring
+                )
+                report = _with_window(report, arms)
+                ongoing = None if done else progress_section(arms, planned, interval)
+                drawn = None if ongoing is None else _Shown(arms, planned, report, {})
+                try:
+                    written = _write(
+                        report if ongoing is None else replace(report, sections=(ongoing, *report.sections)),
+                        out,
+                        force=force or seen is not None,
+                        refresh=None if ongoing is None else interval,
+                        progress=progress,
+                        images={} if drawn is None else drawn.images,
+                    )
+                except ReportInterrupted as stop:
+                    shown = drawn if stop.written else shown
+                    raise
+                shown = drawn
+                seen = state
+                if progress:
+                    finished = sum(len(a.runs) for a in arms)
+                    progress(f"{finished} of {planned} runs finished: wrote {out / HTML}")
+            if done:
+                return written
+            sleep(interval)
+    except KeyboardInterrupt as stop:
+        if shown is None:
+            if isinstance(stop, ReportInterrupted):
+                raise
+            raise ReportInterrupted(f"the report was not written; {as_it_was(out)}") from None
+        raise ReportInterrupted(_stop_reloading(shown, out, progress), written=True) from None
+
+
+@dataclass(frozen=True)
+class _Shown:
+    """A report ``--watch`` wrote: over ``arms``, of ``planned`` runs; the report (without its
+    progress section) and its figures' files."""
+
+    arms: Sequence[ArmRecord]
+    planned: int
+    report: StudyReport
+    images: dict[str, bytes]
+
+
+def _stop_reloading(shown: _Shown, out: Path, progress: Callable[[str], None] | None) -> str:
+    """The watched report made again, with its figures as they are, saying it was stopped, its
+    page no longer reloading itself (a second Ctrl-C waits for it); what ``out`` holds then."""
+    stopped = progress_section(shown.arms, shown.planned, None)
+    report = (
+        shown.report if stopped is None else replace(shown.report, sections=(stopped, *shown.report.sections))
+    )
+    finished = sum(len(a.runs) for a in shown.arms)
+    failed: Exception | None = None
+    try:
+        with interrupts_deferred():
+            try:
+                _write(
+                    report,
+                    out,
+                    force=True,
+                    refresh=None,
+                    progress=progress,
+                    images=shown.images,
+                    redraw=False,
+                )
+            except (ReportError, OSError) as error:
+                failed = error
+    except KeyboardInterrupt:
+        pass  # a second Ctrl-C, held until the page was written
+    if failed is not None:
+        return (
+            f"{out / HTML} is the report of the {finished} of {shown.planned} runs finished so far, but it "
+            f"could not be rewritten ({failed}): it still reloads itself"
+        )
+    return (
+        f"{out / HTML} is the report of the {finished} of {shown.planned} runs finished so far, and no "
+        "longer reloads itself; `gaitgram report --watch` again follows the study"
+    )
 
 
 def _planned(directories: Sequence[Path], runs: int | None = None) -> int:

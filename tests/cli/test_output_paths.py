@@ -8,6 +8,7 @@ compared exactly.
 
 from __future__ import annotations
 
+import errno
 import os
 import subprocess
 import sys
@@ -154,6 +155,40 @@ def test_an_existing_output_needs_force_and_says_which(here: Path) -> None:
     assert done.stderr == "error: walk.png exists; pass --force to overwrite it, or choose another --strip\n"
     assert (here / "walk.gif").read_bytes() == b"mine"
     assert not (here / "new.gif").exists()
+
+
+def test_a_full_disk_leaves_the_animation_and_its_strip_as_they_were(
+    here: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``render --force`` over an older GIF and strip, the disk full once the new GIF is made: both
+    stay old (not a new animation beside an old strip), the error names the strip as written, and
+    nothing is left beside them."""
+    from gaitgram import fileio
+
+    (here / "walk.gif").write_bytes(b"old animation")
+    (here / "walk.png").write_bytes(b"old strip")
+    (here / "walk.png").chmod(0o640)
+    real = fileio.write_atomically
+
+    def full(path: Path, text: str | bytes, **options: object) -> None:
+        if path.name == "walk.png":
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
+        real(path, text, **options)
+
+    render = ["render", str(SINE_WALK), *GENOME, "--fps", "2", "-o", "walk.gif", "--force"]
+    with monkeypatch.context() as patch:
+        patch.setattr(fileio, "write_atomically", full)
+        done = runner.invoke(app, render)
+    assert done.exit_code == 2
+    assert done.stderr == "error: cannot write walk.png: no space left on device\n"
+    assert (here / "walk.gif").read_bytes() == b"old animation"
+    assert (here / "walk.png").read_bytes() == b"old strip"
+    assert everything_in(here) == {"plain", "folder", "walk.gif", "walk.png"}
+    done = runner.invoke(app, render)
+    assert done.exit_code == 0, done.stderr
+    assert (here / "walk.gif").read_bytes()[:6] == b"GIF89a"
+    assert (here / "walk.png").read_bytes()[:4] == b"\x89PNG"
+    assert (here / "walk.png").stat().st_mode & 0o777 == 0o640  # the file replaced keeps its mode
 
 
 @pytest.mark.skipif(IS_ROOT, reason="root may write any file")

@@ -1,8 +1,10 @@
-"""Kill -9 at any instant of making a run or study directory, and the same command continues.
+"""Kill -9 at any instant of making a run or study directory, and the same command continues;
+a report or a render cut short leaves the old files or the new ones, never some of each.
 
 Not killed at random times: each command runs once with every file-system step it takes in
-its output's directory counted (mkdir, open, chmod, rename, replace, unlink, rmdir), then once
-per step, dying at that step as under kill -9 (``os._exit``: no cleanup, no ``finally``). After
+its output's directory counted (mkdir, open, chmod, rename, replace, link, unlink, rmdir), then
+once per step, dying at that step as under kill -9 (``os._exit``: no cleanup, no ``finally``),
+or receiving a real SIGINT there (Ctrl-C), or failing there as on a full disk (ENOSPC). After
 each death the same command, run again, must succeed and give exactly the uninterrupted
 results, leaving no temporary directory behind. And one gaitgram at a time in a directory:
 a lock that is never deleted, so two processes can never both hold it.
@@ -10,67 +12,117 @@ a lock that is never deleted, so two processes can never both hold it.
 
 from __future__ import annotations
 
+import errno
 import multiprocessing
 import os
+import shutil
+import signal
+import subprocess
+import sys
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from study.report_fixtures import write_hand_made_study
 from typer.testing import CliRunner
 
 from conftest import CURVE_GRAMMAR as GRAMMAR
 from conftest import CURVE_STUDY as STUDY
+from conftest import GRAMMARS
 from gaitgram.cli import app
 
 runner = CliRunner()
 
 #: The file-system calls counted as steps (tempfile, pathlib and shutil go through them).
-STEPS = ("mkdir", "open", "chmod", "rename", "replace", "unlink", "rmdir")
+STEPS = ("mkdir", "open", "chmod", "rename", "replace", "link", "unlink", "rmdir")
+
+
+@dataclass(frozen=True)
+class Cut:
+    """How a command cut short ended: its exit code, standard error and the steps it took."""
+
+    code: int
+    stderr: str
+    steps: list[str]
+
+
+def cut_at(root: Path, args: list[str], limit: int | None, how: str = "kill", *, fresh: bool = False) -> Cut:
+    """Run ``gaitgram ARGS`` in a forked child (with ``fresh``, a new Python process: for MuJoCo's
+    renderer, which a fork may not share) whose ``limit``-th file-system step under ``root``
+    (None: none) is cut short ``how``: ``kill`` (it dies there as under kill -9), ``ctrl-c`` (a
+    real SIGINT reaches it there, as Ctrl-C sends) or ``full`` (the step fails as on a full disk)."""
+    log, errors = root.parent / f"{root.name}.steps", root.parent / f"{root.name}.stderr"
+    log.unlink(missing_ok=True)
+    if fresh:
+        child = f"from study.test_atomic import cut_here; cut_here(*{[str(root), args, limit, how]!r})"
+        env = {
+            **os.environ,
+            "PYTHONPATH": str(Path(__file__).parents[1]),
+            "MUJOCO_GL": "egl",
+            "NO_COLOR": "1",
+        }
+        code = subprocess.run([sys.executable, "-c", child], env=env, check=False).returncode
+    else:
+        pid = os.fork()
+        if pid == 0:
+            cut_here(str(root), args, limit, how)
+        code = os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1])
+    stderr = errors.read_text() if errors.exists() else ""
+    return Cut(code, stderr, log.read_text().splitlines() if log.exists() else [])
+
+
+def cut_here(root: str, args: list[str], limit: int | None, how: str) -> None:
+    """The child of :func:`cut_at`: count the steps, cut at the limit, and end (never returns)."""
+    code = 1
+    try:
+        prefix = str(Path(root).resolve()) + os.sep
+        taken = 0
+        record = os.open(f"{root}.steps", os.O_WRONLY | os.O_CREAT | os.O_APPEND)
+        sys.stderr = open(f"{root}.stderr", "w", buffering=1)  # noqa: SIM115 (line by line, to the end)
+        sys.stdout = open(os.devnull, "w")  # noqa: SIM115
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+
+        def counted(name: str, call: Callable[..., object]) -> Callable[..., object]:
+            def step(path: object, *rest: object, **options: object) -> object:
+                nonlocal taken
+                if isinstance(path, str | bytes | os.PathLike) and options.get("dir_fd") is None:
+                    target = os.path.realpath(os.fsdecode(path))
+                    if target.startswith(prefix):
+                        taken += 1
+                        os.write(record, f"{name} {target}\n".encode())
+                        if taken == limit and how == "kill":
+                            os._exit(137)
+                        if taken == limit and how == "ctrl-c":
+                            os.kill(os.getpid(), signal.SIGINT)
+                        if taken == limit and how == "full":
+                            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), target)
+                return call(path, *rest, **options)
+
+            return step
+
+        for name in STEPS:
+            setattr(os, name, counted(name, getattr(os, name)))
+        try:
+            app(args, prog_name="gaitgram")
+            code = 0
+        except SystemExit as end:
+            code = end.code if isinstance(end.code, int) else 1
+    finally:
+        sys.stderr.flush()
+        os._exit(code)
 
 
 def run_until(root: Path, args: list[str], limit: int | None) -> list[str]:
     """Run ``gaitgram ARGS`` in a forked child that dies at its ``limit``-th step under ``root``
     (None: never); the steps it took, as ``"name path"``."""
-    log = root.parent / f"{root.name}.steps"
-    log.unlink(missing_ok=True)
-    pid = os.fork()
-    if pid == 0:  # the child: count, and die at the limit as kill -9 would
-        code = 1
-        try:
-            prefix = str(root.resolve()) + os.sep
-            taken = 0
-            record = os.open(log, os.O_WRONLY | os.O_CREAT | os.O_APPEND)
-
-            def counted(name: str, call: Callable[..., object]) -> Callable[..., object]:
-                def step(path: object, *rest: object, **options: object) -> object:
-                    nonlocal taken
-                    if isinstance(path, str | bytes | os.PathLike) and options.get("dir_fd") is None:
-                        target = os.path.realpath(os.fsdecode(path))
-                        if target.startswith(prefix):
-                            taken += 1
-                            os.write(record, f"{name} {target}\n".encode())
-                            if taken == limit:
-                                os._exit(137)
-                    return call(path, *rest, **options)
-
-                return step
-
-            for name in STEPS:
-                setattr(os, name, counted(name, getattr(os, name)))
-            try:
-                app(args, prog_name="gaitgram")
-            except SystemExit as end:
-                code = end.code if isinstance(end.code, int) else 1
-        finally:
-            os._exit(code)
-    _, status = os.waitpid(pid, 0)
-    steps = log.read_text().splitlines() if log.exists() else []
+    cut = cut_at(root, args, limit)
     if limit is None:
-        assert os.waitstatus_to_exitcode(status) == 0, steps[-5:]
+        assert cut.code == 0, (cut.stderr, cut.steps[-5:])
     else:
-        assert os.waitstatus_to_exitcode(status) == 137, f"step {limit} of {steps}: the command ended first"
-    return steps
+        assert cut.code == 137, f"step {limit} of {cut.steps}: the command ended first"
+    return cut.steps
 
 
 def tree(directory: Path) -> dict[str, bytes]:
@@ -223,3 +275,224 @@ def test_processes_entering_the_lock_at_the_same_instant_never_both_hold_it(tmp_
             holder = None
     assert len(entries) >= 40  # someone held it in every round
     assert (tmp_path / ".lock").exists()
+
+
+# ---- a report replaced, cut short ---------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Reports:
+    """A hand-made study, its report over each arm's first two runs (the old report a directory
+    holds) and the report of all three (the new one), as trees of files."""
+
+    study: Path
+    old: Path
+    old_tree: dict[str, bytes]
+    new_tree: dict[str, bytes]
+    moments: dict[str, int]
+
+    def args(self, out: Path, *more: str) -> list[str]:
+        return ["report", str(self.study), "-o", str(out), *more]
+
+    def cut(
+        self, root: Path, limit: int | None, how: str = "kill", *, fresh: bool = False
+    ) -> tuple[Path, Cut]:
+        """``report --force`` into ``root/out``, holding the old report (none if ``fresh``), cut at
+        step ``limit``."""
+        root.mkdir()
+        if not fresh:
+            shutil.copytree(self.old, root / "out")
+        return root / "out", cut_at(root, self.args(root / "out", "--force"), limit, how)
+
+    def steps(self, tmp_path: Path) -> list[str]:
+        """The steps of replacing the old report by the new."""
+        return self.cut(tmp_path / "reference", None)[1].steps
+
+
+def moments(steps: list[str]) -> dict[str, int]:
+    """The steps of replacing a report that matter, by name (1-based, as ``cut_at`` counts)."""
+
+    def at(*parts: str) -> list[int]:
+        return [i for i, s in enumerate(steps, 1) if all(part in s for part in parts)]
+
+    moved = [i for i in at("replace ", ".staging.") if not steps[i - 1].endswith(".tmp")]
+    commit = at("unlink ", "moving-in")[0]
+    return {
+        "first file made": at(".staging.", ".tmp")[0],
+        "page made": at("replace ", "report.html.")[0],
+        "first set aside": at("link ")[0],
+        "halfway through the swap": moved[len(moved) // 2],
+        "last moved in": moved[-1],
+        "swap done": commit,
+        "cleaning up": commit + 1,
+    }
+
+
+@pytest.fixture(scope="module")
+def reports(tmp_path_factory: pytest.TempPathFactory) -> Reports:
+    """Made once for the tests of this module that cut reports short."""
+    where = tmp_path_factory.mktemp("reports")
+    study = write_hand_made_study(where / "study")
+    for name, more in (("old", ["--runs", "2"]), ("new", [])):
+        made = runner.invoke(app, ["report", str(study), "-o", str(where / name), *more])
+        assert made.exit_code == 0, made.stderr
+    made = Reports(study, where / "old", tree(where / "old"), tree(where / "new"), {})
+    assert made.old_tree.keys() == made.new_tree.keys()
+    assert made.old_tree != made.new_tree
+    made.moments.update(moments(made.steps(where)))
+    return made
+
+
+def check_mended(reports: Reports, out: Path, moment: str) -> str:
+    """After a kill: the next report into ``out`` mends it first, says so, and leaves the old report
+    or the new one (it is refused: no --force); then the new one is made over it. Which was left."""
+    again = runner.invoke(app, reports.args(out))
+    assert again.exit_code == 2, (moment, again.stderr)
+    assert "summary.md exists; pass --force to overwrite it" in again.stderr
+    assert "interrupted gaitgram" in again.stderr, (moment, again.stderr)
+    left = tree(out)
+    assert left in (reports.old_tree, reports.new_tree), f"{moment}: files of each report: {sorted(left)}"
+    forced = runner.invoke(app, reports.args(out, "--force"))
+    assert forced.exit_code == 0, forced.stderr
+    assert "interrupted gaitgram" not in forced.stderr  # mended once
+    assert tree(out) == reports.new_tree
+    return "old" if left == reports.old_tree else "new"
+
+
+def test_a_report_killed_while_replacing_another_leaves_one_of_them(tmp_path: Path, reports: Reports) -> None:
+    """kill -9 while the new report is made and while it is swapped in: until the swap is done, the
+    old report is what stays (the files already swapped are put back); after, the new one."""
+    moments = reports.moments
+    left = {}
+    for moment in ("first file made", "halfway through the swap", "swap done", "cleaning up"):
+        out, cut = reports.cut(tmp_path / moment.replace(" ", "-"), moments[moment])
+        assert cut.code == 137, (moment, cut.stderr)
+        if moment == "halfway through the swap":  # as the kill left it: files of both reports
+            assert tree(out) not in (reports.old_tree, reports.new_tree)
+        left[moment] = check_mended(reports, out, moment)
+    assert left == {
+        "first file made": "old",
+        "halfway through the swap": "old",
+        "swap done": "old",  # killed just before the swap was marked done
+        "cleaning up": "new",
+    }
+
+
+def test_a_report_killed_while_made_afresh_leaves_nothing(tmp_path: Path, reports: Reports) -> None:
+    """A directory made whole: killed before it is in place (while its files are made, or at the
+    rename that puts it there), there is no report at all; the next command removes what was
+    left and says so."""
+    steps = reports.cut(tmp_path / "reference", None, fresh=True)[1].steps
+    made = next(i for i, step in enumerate(steps, 1) if step.endswith(".tmp"))
+    renamed = next(i for i, step in enumerate(steps, 1) if step.startswith("rename "))
+    for limit in (made, renamed):
+        out, cut = reports.cut(tmp_path / f"killed-at-{limit}", limit, fresh=True)
+        assert cut.code == 137
+        assert not out.exists()
+        assert [p.name.endswith(".creating") for p in out.parent.iterdir()] == [True]
+        done = runner.invoke(app, reports.args(out))
+        assert done.exit_code == 0, done.stderr
+        assert "left unfinished by an interrupted gaitgram" in done.stderr
+        assert tree(out) == reports.new_tree
+        assert [p.name for p in out.parent.iterdir()] == ["out"]
+        assert not (out / ".lock").exists()
+
+
+@pytest.mark.parametrize(
+    ("moment", "kept"),
+    [
+        ("first file made", "the report was not written; {out} is as it was"),
+        ("halfway through the swap", "the report was written whole in {out}"),  # held until it is done
+        ("cleaning up", "the report was written whole in {out}"),
+    ],
+)
+def test_ctrl_c_while_a_report_is_written_says_what_was_kept(
+    tmp_path: Path, reports: Reports, moment: str, kept: str
+) -> None:
+    """A real SIGINT at each moment: exit 130, and stderr says what the directory holds, which is
+    the old report or the new one, whole, with nothing left over."""
+    out, cut = reports.cut(tmp_path / "cut", reports.moments[moment], "ctrl-c")
+    assert cut.code == 130, cut.stderr
+    assert cut.stderr == f"interrupted: {kept.format(out=out)}\n"
+    assert tree(out) == (reports.old_tree if "not written" in kept else reports.new_tree)
+    no_temporaries(tmp_path / "cut")
+
+
+@pytest.mark.parametrize("moment", ["page made", "halfway through the swap"])
+def test_a_full_disk_while_a_report_is_written_keeps_the_old_one(
+    tmp_path: Path, reports: Reports, moment: str
+) -> None:
+    """ENOSPC while the files are made, or at a rename of the swap: exit 2 naming the reason, the
+    old report whole (the files swapped so far are put back), nothing left over."""
+    out, cut = reports.cut(tmp_path / "cut", reports.moments[moment], "full")
+    assert cut.code == 2, cut.stderr
+    assert cut.stderr == (
+        f"error: cannot write the report in {out}: No space left on device; {out} is as it was\n"
+    )
+    assert tree(out) == reports.old_tree
+    no_temporaries(tmp_path / "cut")
+
+
+@pytest.mark.slow
+def test_a_report_killed_at_any_step_leaves_the_old_report_or_the_new(
+    tmp_path: Path, reports: Reports
+) -> None:
+    steps = reports.steps(tmp_path)
+    assert len(steps) > 50
+    for limit in range(1, len(steps) + 1):
+        out, cut = reports.cut(tmp_path / f"killed-at-{limit}", limit)
+        assert cut.code == 137, (limit, cut.stderr)
+        if tree(out) not in (reports.old_tree, reports.new_tree):  # else nothing was left to mend
+            check_mended(reports, out, steps[limit - 1])
+
+
+# ---- an animation and its strip, replaced together ----------------------------------------------
+
+RENDER = ["render", str(GRAMMARS / "sine-walk.gg"), "--genome", "5,17,3,99,1000,42,7,8,9,10,11,12,13"]
+RENDER += ["--max-wraps", "10", "--fps", "2"]
+
+
+def test_render_replaces_its_animation_and_strip_together(tmp_path: Path) -> None:
+    """``render --force`` over an older GIF and strip, in a process of its own: a Ctrl-C while they
+    are written waits until both are new; a kill -9 between the two renames leaves a new GIF beside
+    the old strip, which the next render puts back first, saying so, before it checks its outputs."""
+
+    def cut(name: str, limit: int | None, how: str = "kill") -> tuple[Path, Cut]:
+        root = tmp_path / name
+        root.mkdir()
+        (root / "walk.gif").write_bytes(b"old animation")
+        (root / "walk.png").write_bytes(b"old strip")
+        return root, cut_at(root, [*RENDER, "-o", str(root / "walk.gif"), "--force"], limit, how, fresh=True)
+
+    steps = cut("reference", None)[1].steps
+    made = next(i for i, step in enumerate(steps, 1) if "walk.png." in step and step.endswith(".tmp"))
+    moved = [i for i, step in enumerate(steps, 1) if step.startswith("replace ") and ".staging." in step]
+    moved = [i for i in moved if not steps[i - 1].endswith(".tmp")]
+    assert len(moved) == 2, steps
+
+    root, stopped = cut("ctrl-c", made, "ctrl-c")
+    assert stopped.code == 130, stopped.stderr
+    assert stopped.stderr.splitlines()[-1] == (
+        f"interrupted: {root / 'walk.gif'} and {root / 'walk.png'} were written whole before it took effect"
+    )
+    assert (root / "walk.gif").read_bytes()[:6] == b"GIF89a"
+    assert (root / "walk.png").read_bytes()[:4] == b"\x89PNG"
+    no_temporaries(root)
+
+    root, killed = cut("killed", moved[1])
+    assert killed.code == 137
+    assert (root / "walk.gif").read_bytes()[:6] == b"GIF89a"  # as the kill left it: one of each
+    assert (root / "walk.png").read_bytes() == b"old strip"
+    again = subprocess.run(
+        [sys.executable, "-m", "gaitgram", *RENDER, "-o", str(root / "walk.gif")],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "MUJOCO_GL": "egl", "NO_COLOR": "1", "COLUMNS": "400"},
+        check=False,
+    )
+    assert again.returncode == 2
+    assert f"an interrupted gaitgram left {root} half-replaced: put back the 2 file(s)" in again.stderr
+    assert f"error: {root / 'walk.gif'} exists; pass --force to overwrite it" in again.stderr
+    assert (root / "walk.gif").read_bytes() == b"old animation"
+    assert (root / "walk.png").read_bytes() == b"old strip"
+    no_temporaries(root)

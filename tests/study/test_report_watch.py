@@ -3,7 +3,12 @@ more finish, its page reloading itself; once all have, the report is the ordinar
 
 from __future__ import annotations
 
+import os
 import re
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -94,3 +99,55 @@ def test_only_a_plain_report_refuses_unfinished_runs(tmp_path: Path) -> None:
     result = runner.invoke(app, ["report", str(study), "-o", str(tmp_path / "r")])
     assert result.exit_code == 2
     assert "finish it first" in result.stderr
+
+
+def test_ctrl_c_stops_a_watch_leaving_a_page_that_no_longer_reloads(tmp_path: Path) -> None:
+    """As the user meets it: ``report --watch`` in a process of its own, a real SIGINT once its first
+    page is written. It says what it kept, exits 130 and leaves the report of the runs finished so
+    far whole, its page saying the watch stopped instead of reloading itself forever; the same
+    command with --force carries on once the last run has finished."""
+    study = write_hand_made_study(tmp_path / "study")
+    gamma, gamma_text = unfinish(study, "gamma", 2, 2)
+    out = tmp_path / "watched"
+    command = [
+        sys.executable,
+        "-m",
+        "gaitgram",
+        "report",
+        str(study),
+        "-o",
+        str(out),
+        "--watch",
+        "--interval",
+        "1",
+    ]
+    environment = {**os.environ, "NO_COLOR": "1", "COLUMNS": "400"}
+    watching = subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=environment
+    )
+    try:
+        for _ in range(600):  # its first page, written whole (the directory appears with it)
+            if (out / HTML).exists() or watching.poll() is not None:
+                break
+            time.sleep(0.1)
+        assert REFRESH.findall((out / HTML).read_text()) == ["1"]
+        watching.send_signal(signal.SIGINT)
+        _, stderr = watching.communicate(timeout=120)
+    finally:
+        watching.kill()
+    assert watching.returncode == 130, stderr
+    assert stderr.splitlines()[-1] == (
+        f"interrupted: {out / HTML} is the report of the 8 of 9 runs finished so far, and no longer "
+        "reloads itself; `gaitgram report --watch` again follows the study"
+    )
+    page = (out / HTML).read_text()
+    assert not REFRESH.findall(page)
+    assert "8 of 9 runs finished" in page
+    assert "was stopped here and this page no longer reloads itself" in page
+    assert "reloads itself every" not in page
+    assert not [p.name for p in out.iterdir() if p.name.startswith(".")]  # nothing left over
+    gamma.write_text(gamma_text)
+    again = runner.invoke(app, ["report", str(study), "-o", str(out), "--watch", "--force"])
+    assert again.exit_code == 0, again.stderr
+    assert "9 of 9 runs finished" in again.stderr
+    assert "Study in progress" not in (out / HTML).read_text()
