@@ -16,6 +16,7 @@ from gaitgram.backends.mujoco_horse.realism import CURVES, MEASURES, _scores, as
 from gaitgram.backends.mujoco_horse.robustness import (
     BUMP_SEEDS,
     DISTURBANCES,
+    PUSH_PHASE,
     PUSH_SECONDS,
     PUSH_SHARE,
     Trial,
@@ -63,7 +64,7 @@ def test_the_seed_recovers_from_a_backward_push_and_a_falling_gait_holds_under_n
 def test_a_push_is_a_share_of_body_weight_on_the_trunk_for_a_tenth_of_a_second() -> None:
     evaluator = HorseEvaluator()
     batch = load_seed().motion_batch()
-    forces = _push(evaluator, batch, "push-backward", 6000)
+    forces = _push(evaluator, batch, [(-PUSH_SHARE, PUSH_PHASE)], 6000)
     trunk = evaluator.layout.trunk_body
     pushed = np.flatnonzero(forces[0, :, trunk * 6])
     assert len(pushed) == round(PUSH_SECONDS / evaluator.dt)
@@ -174,3 +175,27 @@ def test_a_hoof_that_never_lands_leaves_its_phase_unmeasured_without_a_warning()
         mean = mean_phases(phases)
         assert np.isnan(mean_phases(np.empty((0, 4)))).all()
     np.testing.assert_array_equal(mean, [0.0, 0.26, np.nan, 0.75])
+
+
+def test_the_graded_trials_disturbances_have_the_sizes_they_say() -> None:
+    """Pushes of 40 % are twice the force of 20 %, at eight distinct steps of the cycle; a slope
+    tilts gravity by its angle; 4 cm bumps are the 2 cm floors' draw, twice as tall."""
+    from gaitgram.backends.mujoco_horse.robustness import PUSH_PHASES, sloped_model
+
+    evaluator = HorseEvaluator()
+    batch = load_seed().motion_batch().take([0] * len(PUSH_PHASES))
+    trunk = evaluator.layout.trunk_body * 6
+    small = _push(evaluator, batch, [(0.2, p) for p in PUSH_PHASES], 6000)
+    large = _push(evaluator, batch, [(-0.4, p) for p in PUSH_PHASES], 6000)
+    assert np.array_equal(large, -2 * small)
+    starts = [int(np.flatnonzero(small[g, :, trunk])[0]) for g in range(len(PUSH_PHASES))]
+    period = 1 / (evaluator.targets.stride_frequency * evaluator.dt)
+    assert np.allclose(np.diff(starts), period / 8, atol=1)
+    up = sloped_model(None, 6.0)
+    g = np.linalg.norm(up.opt.gravity)
+    assert np.degrees(np.arctan2(-up.opt.gravity[0], -up.opt.gravity[2])) == pytest.approx(6.0)
+    assert g == pytest.approx(9.81)
+    assert sloped_model(None, -3.0).opt.gravity[0] > 0  # downhill: pulled forward
+    two, four = bumpy_model(None, BUMP_SEEDS[0]), bumpy_model(None, BUMP_SEEDS[0], 1.0, 2 * BUMP_HEIGHT)
+    assert np.array_equal(two.hfield_data, four.hfield_data)
+    assert four.hfield_size[0, 2] == pytest.approx(2 * two.hfield_size[0, 2])

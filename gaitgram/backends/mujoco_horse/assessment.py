@@ -1,8 +1,9 @@
 """A kept gait measured beyond its score, as ``gaitgram report --assess`` keeps it
 (``run-NNN/assessment.json``): its realism beside the DLC_Horse walks
-(:mod:`~gaitgram.backends.mujoco_horse.realism`) and its trials under each disturbance
-(:mod:`~gaitgram.backends.mujoco_horse.robustness`). The backend declares it (``BackendSpec.assess``)
-so that the study layer asks for it without knowing the horse."""
+(:mod:`~gaitgram.backends.mujoco_horse.realism`), its trials under each disturbance
+(:mod:`~gaitgram.backends.mujoco_horse.robustness`) and its graded trial (``graded``: each family of
+disturbance in rungs of growing size). The backend declares it (``BackendSpec.assess``) so that
+the study layer asks for it without knowing the horse."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from gaitgram.backends.mujoco_horse.realism import assess
-from gaitgram.backends.mujoco_horse.robustness import DISTURBANCES, disturbed
+from gaitgram.backends.mujoco_horse.robustness import DISTURBANCES, GRADES, Rung, Trial, disturbed, graded
 from gaitgram.motion.gait import MotionBatch
 
 
@@ -20,7 +21,7 @@ def assess_gaits(settings: Mapping[str, Any], batch: MotionBatch) -> list[dict[s
     disturbance trials, as kept in ``assessment.json``."""
     playable = [g for g in range(len(batch)) if batch.problems[g] is None]
     found: list[dict[str, Any]] = [
-        {"gait": "invalid", "detail": batch.details[g], "realism": None, "trials": []}
+        {"gait": "invalid", "detail": batch.details[g], "realism": None, "trials": [], "graded": []}
         for g in range(len(batch))
     ]
     if not playable:
@@ -28,6 +29,7 @@ def assess_gaits(settings: Mapping[str, Any], batch: MotionBatch) -> list[dict[s
     sub = batch.take(playable)
     realism = _realism(settings, sub)
     trials = {d.name: disturbed(settings, sub, d.name) for d in DISTURBANCES}
+    rungs = graded(settings, sub, known={GRADES[0].name: trials["bumps"]})  # the trial's bumps: rung 1
     for k, g in enumerate(playable):
         found[g] = {
             "gait": "measured" if realism[k] is not None else "falls",
@@ -45,8 +47,23 @@ def assess_gaits(settings: Mapping[str, Any], batch: MotionBatch) -> list[dict[s
                 }
                 for d in DISTURBANCES
             ],
+            "graded": [_rung(rung, trial) for rung, trial in zip(GRADES, rungs[k], strict=True)],
         }
     return found
+
+
+def _rung(rung: Rung, trial: Trial) -> dict[str, Any]:
+    return {
+        "family": rung.family,
+        "size": rung.size,
+        "unit": rung.unit,
+        "describe": rung.describe,
+        "upright": trial.upright,
+        "walking": trial.walking,
+        "detail": trial.detail,
+        "plays": trial.floors,
+        "held": trial.held,
+    }
 
 
 def _realism(settings: Mapping[str, Any], batch: MotionBatch) -> list[dict[str, Any] | None]:

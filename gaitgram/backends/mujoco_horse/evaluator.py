@@ -407,6 +407,11 @@ class HorseEvaluator:
         the warm-up, ``walk_sustained`` and ``walk`` 1. Its fitness is the same as ``evaluate``'s."""
         return self._evaluate(batch, weights, self.horizon)
 
+    def ends_at(self, batch: MotionBatch, rows: np.ndarray, cycles: int | None = None) -> np.ndarray:
+        """Per gait ``rows`` of ``batch``, the step its play ends at after ``cycles`` cycles after
+        the ramp (None: its warm-up and scored ones)."""
+        return self._ends(self.frequencies(batch, rows), cycles)
+
     def ends(self, frequencies: np.ndarray) -> np.ndarray:
         """Per gait at ``frequencies``, the steps an evaluation simulates if it does not fall."""
         return self._stage_steps(frequencies)

@@ -68,19 +68,23 @@ FLAT_START = 1.0  # m ahead of the standing horse, and all of it behind
 BUMP_LENGTH = 60.0  # m of floor ahead: more than the longest walk over a horizon
 
 
-def bumpy_model(body: str | None, seed: int, scale: float = 1.0) -> mujoco.MjModel:
+def bumpy_model(
+    body: str | None, seed: int, scale: float = 1.0, height: float = BUMP_HEIGHT
+) -> mujoco.MjModel:
     """A body (None: the horse) on a floor of random bumps drawn from ``seed``, flat where it
     stands and just ahead: the robustness trial's floors, and the ones a fitness scoring bumps
     (``bump_floors``) plays gaits on. ``scale`` sizes the turf: bumps, cells and the flat start
     ``scale`` times the trial's (1: the trial's floors, the very models; a body's length scale:
     turf as uneven for it as the trial's is for the horse). The floor's extent does not scale (a
     smaller floor would end under a walk), so another scale draws another sample of such turf.
+    ``height`` is the bumps' full height before scaling (the graded robustness trial's taller bumps:
+    the same cells, the same draw, each bump ``height / BUMP_HEIGHT`` times as tall).
     Compiled once per process; callers must not change it."""
-    return _bumpy_model(body, seed, float(scale))
+    return _bumpy_model(body, seed, float(scale), float(height))
 
 
 @cache
-def _bumpy_model(body: str | None, seed: int, scale: float) -> mujoco.MjModel:
+def _bumpy_model(body: str | None, seed: int, scale: float, height: float) -> mujoco.MjModel:
     spec = master_spec(body)
     rng = np.random.default_rng(seed)
     behind = 10.0  # m of floor behind the standing horse
@@ -95,7 +99,7 @@ def _bumpy_model(body: str | None, seed: int, scale: float) -> mujoco.MjModel:
     field = spec.add_hfield()
     field.name = "bumps"
     field.nrow, field.ncol = nrow, ncol
-    field.size = [half_length, half_width, BUMP_HEIGHT * scale, 0.1]
+    field.size = [half_length, half_width, height * scale, 0.1]
     field.userdata = heights.ravel().tolist()
     floor = spec.geom("floor")
     floor.type = mujoco.mjtGeom.mjGEOM_HFIELD
