@@ -125,8 +125,7 @@ def assess(settings: dict[str, Any], batch: MotionBatch) -> list[Realism | None]
     evaluator = HorseEvaluator(HorseSettings.from_mapping(settings))
     try:
         rows = np.arange(len(batch))
-        control = evaluator.controls(batch, rows)
-        states, sensors = evaluator.simulate(control)
+        states, sensors, control = evaluator.play(batch, rows)  # as it is scored, closed loops closed
         frequencies = evaluator.frequencies(batch, rows)
         verdicts = evaluator.score(states, sensors, control, {"velocity": 1.0}, frequencies)
         recordings = evaluator.recordings(states, sensors, control, frequencies)
