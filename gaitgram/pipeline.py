@@ -32,6 +32,7 @@ from typing import Any
 
 from gaitgram.analysis import CheckResult
 from gaitgram.analysis.facts import GrammarFacts
+from gaitgram.analysis.motion_text import sensors_lacking
 from gaitgram.backends.api import (
     WORST_FITNESS,
     Evaluation,
@@ -127,6 +128,7 @@ class Pipeline:
         _check_weights(config, spec)
         _check_joints(grammar, spec)
         _check_frequency(grammar, spec)
+        _check_sensors(checked, spec, key="backend" if config.backend else None)
         _check_depths(checked.facts, config)
         try:
             mapper = compile_mapper(
@@ -358,6 +360,20 @@ def _check_joints(grammar: Grammar, spec: BackendSpec) -> None:
         raise PipelineError(
             f"backend {spec.name!r} has no joint {', '.join(map(repr, missing))}; the grammar was written "
             f"for {grammar.backend or 'another backend'!s}; its joints: {', '.join(spec.catalogue.names)}"
+        )
+
+
+def _check_sensors(checked: CheckResult, spec: BackendSpec, key: str | None) -> None:
+    """A grammar whose curves read sensors the backend lacks (the linter's GG509, but the run's
+    config may name another backend than the grammar's) would make every closed-loop gait unusable."""
+    lacking = sensors_lacking(checked.grammar, checked.facts, spec.sensors)
+    if lacking:
+        offered = ", ".join(s.name for s in spec.sensors or ())
+        raise PipelineError(
+            f"the grammar's curves read the sensor{'s' if len(lacking) > 1 else ''} {', '.join(lacking)}, "
+            f"which backend {spec.name!r} lacks; "
+            + (f"its sensors: {offered}" if offered else "it senses nothing and plays open-loop curves only"),
+            key=key,
         )
 
 

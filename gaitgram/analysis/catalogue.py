@@ -7,7 +7,7 @@ catalogue of the docs (``gaitgram.docgen``), SARIF's rule metadata and the tests
 
 from __future__ import annotations
 
-from gaitgram.analysis.lint import joint_checks, rule_checks
+from gaitgram.analysis.lint import joint_checks, rule_checks, sensor_checks
 from gaitgram.diagnostics import Code
 from gaitgram.language import annotations, look_alikes, meaning, problems, ranges
 
@@ -21,6 +21,7 @@ _DECLARED: tuple[Code, ...] = (
     *meaning.CODES,
     *rule_checks.CODES,
     *joint_checks.CODES,
+    *sensor_checks.CODES,
 )
 
 #: Every code by its number (``GG201``), in order.

@@ -20,6 +20,7 @@ import re
 from dataclasses import dataclass
 from enum import IntEnum
 
+from gaitgram.motion.names import NAME_PATTERN, NUMBER_PATTERN, WHITESPACE
 from gaitgram.motion.results import MotionError, MotionStatus
 from gaitgram.motion.tree import BINARY_PRECEDENCE, UNARY_PRECEDENCE, Binary, Call, Expr, Name, Number, Unary
 
@@ -70,11 +71,9 @@ class Syntax:
 
 NUMBER, NAME, UNARY, BINARY, CALL = NodeKind
 
-# expression.lark's terminals, spelt as the grammar spells them (a test compares them).
-NUMBER_PATTERN = r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
-NAME_PATTERN = r"[A-Za-z_][A-Za-z0-9_]*"
+# expression.lark's terminals (NUMBER_PATTERN, NAME_PATTERN: gaitgram.motion.names), spelt as the
+# grammar spells them (a test compares them).
 PUNCTUATION = "+-*/(),"
-WHITESPACE = " \t\r\n"  # what the grammar ignores between tokens
 
 _SPACE = f"[{re.escape(WHITESPACE)}]"
 # One match a token, the whitespace before it included. Groups: 1 NUMBER; 2 NAME, with 3 the

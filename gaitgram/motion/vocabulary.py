@@ -1,16 +1,29 @@
-"""What the names and operators of a motion expression mean: the one place to extend the language.
+"""What the names and operators of a motion expression compute.
 
 The checker accepts these names, the compiler folds and emits these functions, and the
-machine runs them; nothing else names a function or constant.
+machine runs them; nothing else names a function or constant. The names themselves are spelt in
+:mod:`gaitgram.motion.names` (without numpy, for the linter and the editor): the one place to
+extend the language.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+
+from gaitgram.motion.names import CONSTANTS, FUNCTION_DOCS, UNSUPPORTED, VARIABLE
+
+__all__ = [
+    "BINARY_UFUNCS",
+    "CONSTANTS",
+    "FUNCTIONS",
+    "UNSUPPORTED",
+    "VARIABLE",
+    "Function",
+    "phase_grid",
+]
 
 
 @dataclass(frozen=True, slots=True)
@@ -22,27 +35,14 @@ class Function:
     doc: str
 
 
-#: Functions, each of one argument in radians. Only what the paper's grammars derive: a wider
-#: vocabulary (tan, exp, log, sqrt, powers) would add singularities and domain errors that no
-#: gait needs. Add an entry here to extend the language; nothing else needs to change.
+#: Functions, each of one argument in radians: numpy's ufunc of each name in
+#: :data:`~gaitgram.motion.names.FUNCTION_DOCS`, where the language's words are spelt.
 FUNCTIONS: dict[str, Function] = {
-    "sin": Function("sin", np.sin, "the sum-of-sines representation (Eq. 1, Fig. 2)"),
-    "cos": Function("cos", np.cos, "cosine terms of the concatenating grammar (Fig. 2) and Fig. 5"),
+    name: Function(name, getattr(np, name), doc) for name, doc in FUNCTION_DOCS.items()
 }
-
-#: Named constants. The paper writes ``PI``; ``pi`` is accepted as well.
-CONSTANTS: dict[str, float] = {"PI": math.pi, "pi": math.pi}
-
-#: The phase of the gait cycle, in [0, 1).
-VARIABLE = "t"
 
 #: The binary operators as numpy ufuncs: compile-time folding and the machine compute alike.
 BINARY_UFUNCS: dict[str, np.ufunc] = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.true_divide}
-
-#: Functions people try that the language leaves out on purpose (a hint says so).
-UNSUPPORTED = frozenset(
-    {"tan", "exp", "log", "ln", "sqrt", "abs", "pow", "min", "max", "asin", "acos", "atan"}
-)
 
 
 def phase_grid(n_samples: int) -> NDArray[np.float64]:

@@ -41,13 +41,17 @@ SAMPLES: dict[str, tuple[str, str]] = {
     "GG303": ("<a> ::= float[0..1 step 0.3]\n", "<a> ::= float[0..0.9 step 0.3]\n"),
     "GG305": ("<a> ::= int[0..1 step 0.5]\n", "<a> ::= float[0..1 step 0.5]\n"),
     "GG309": ("<a> ::= 2*flaot[0..1 step 0.5]\n", "<a> ::= 2*float[0..1 step 0.5]\n"),
-    "GG401": ("@jont hip_hind\n<a> ::= x\n", "@joint hip_hind\n<a> ::= x\n"),
+    "GG401": ("@jont hip_hind\n<a> ::= t\n", "@joint hip_hind\n<a> ::= t\n"),
     "GG403": ("<a> ::= x\n@joint hip_hind  # dangling\n", "<a> ::= x\n"),
     "GG404": ("@start <a>\n@start <a>\n<a> ::= x\n", "@start <a>\n<a> ::= x\n"),
     "GG501": ("@backend mujoco-hors\n<a> ::= x\n", "@backend mujoco-horse\n<a> ::= x\n"),
     "GG502": (
-        "@backend mujoco-horse\n@joint hip_hnd\n<a> ::= x\n",
-        "@backend mujoco-horse\n@joint hip_hind\n<a> ::= x\n",
+        "@backend mujoco-horse\n@joint hip_hnd\n<a> ::= t\n",
+        "@backend mujoco-horse\n@joint hip_hind\n<a> ::= t\n",
+    ),
+    "GG508": (
+        "@backend mujoco-horse\n@joint hip_hind\n<a> ::= 2*Sin(2*PI*t)+0.1*pich\n",
+        "@backend mujoco-horse\n@joint hip_hind\n<a> ::= 2*sin(2*PI*t)+0.1*pich\n",
     ),
 }
 

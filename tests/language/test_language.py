@@ -49,7 +49,7 @@ def codes(text: str) -> list[str]:
         ("@start <a>\n@start <a>\n<a> ::= x", ["GG404"]),
         ("<a> ::= GE_RANGE:n_vars", ["GG405"]),
         ("@backend nope\n<a> ::= x", ["GG501"]),
-        ("@joint hip_hind\n<a> ::= x", ["GG507"]),
+        ("@joint hip_hind\n<a> ::= 1", ["GG507"]),
         ("@start <nope>\n<a> ::= x", ["GG201"]),
     ],
 )

@@ -154,7 +154,7 @@ def test_count_one_needs_equal_ends() -> None:
     ],
 )
 def test_absurd_annotation_numbers_are_errors_naming_the_argument(annotation: str, argument: str) -> None:
-    grammar = parse(f"{annotation}\n<a> ::= x\n")
+    grammar = parse(f"{annotation}\n<a> ::= 1\n")
     errors = [d for d in check(grammar).diagnostics if d.is_error]
     assert [(d.code.code, grammar.source.slice(d.span)) for d in errors] == [("GG402", argument)]
     assert f"'{argument.split('=')[0]}'" in errors[0].message
@@ -170,7 +170,7 @@ def test_whole_numbers_may_be_written_with_an_exponent() -> None:
     (joint,) = grammar.joints
     assert joint.free == (1000, None)
     assert joint.limits == (-25, 30)
-    assert [code for code, _ in problems("@joint hip_hind free=1.5\n<a> ::= x\n")] == ["GG507", "GG402"]
+    assert [code for code, _ in problems("@joint hip_hind free=1.5\n<a> ::= 1\n")] == ["GG507", "GG402"]
 
 
 # ---- 5. text that cannot be encoded ------------------------------------------------------------

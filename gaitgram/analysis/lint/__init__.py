@@ -2,8 +2,9 @@
 
 Each check is a small function from (grammar, facts) to diagnostics, kept with the codes it
 reports (:mod:`~gaitgram.analysis.lint.rule_checks` for rules, :mod:`~gaitgram.analysis.lint.joint_checks`
-for joints and backends); ``lint`` runs them all. Syntax problems were already found by the
-parser and live in ``grammar.diagnostics``.
+for joints and backends, :mod:`~gaitgram.analysis.lint.sensor_checks` for the names curves read);
+``lint`` runs them all. Syntax problems were already found by the parser and live in
+``grammar.diagnostics``.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from gaitgram.analysis.lint.rule_checks import (
     unproductive_rules,
     unreachable_rules,
 )
+from gaitgram.analysis.lint.sensor_checks import motion_names
 from gaitgram.diagnostics import Diagnostic
 from gaitgram.language.model import Grammar
 
@@ -34,6 +36,7 @@ CHECKS: tuple[Check, ...] = (
     unit_rule_chains,
     joints,
     joints_derived_once,
+    motion_names,
 )
 
 
