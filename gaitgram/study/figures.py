@@ -1,6 +1,6 @@
 """The report's figures, drawn from the report's data (:mod:`gaitgram.study.model`).
 
-One drawer per kind of figure data, registered with :func:`draw`: convergence
+One drawer per kind of figure data, registered with :func:`drawer`: convergence
 (the paper's Figures 3, 4 and 6 with confidence bands), Pareto fronts
 (objectives pairwise), repertoires (heat maps) and gaits' curves beside the
 real walks'. A new kind of figure (a section's) registers its own drawer.
@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from gaitgram.study.escape import printable
 from gaitgram.study.kept_gaits import CURVE_TITLES, CURVES, RealismCurves, real_walks
 from gaitgram.study.model import Convergence, Fronts, RepertoireMap
 
@@ -24,9 +25,19 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
-@singledispatch
 def draw(data: Any) -> Figure:
-    """The matplotlib figure of ``data`` (a :class:`~gaitgram.study.model.Figure`'s)."""
+    """The matplotlib figure of ``data`` (a :class:`~gaitgram.study.model.Figure`'s). Its text is
+    text: a ``$`` in an arm's name is a dollar, not mathematics to parse (or fail to); each drawer
+    shows a name :func:`~gaitgram.study.escape.printable` (an SVG holds no control character)."""
+    from matplotlib import rc_context
+
+    with rc_context({"text.parse_math": False}):
+        return drawer(data)
+
+
+@singledispatch
+def drawer(data: Any) -> Figure:
+    """The drawer of a kind of figure data (``@drawer.register``)."""
     raise TypeError(f"no drawer for figure data of type {type(data).__name__}")
 
 
@@ -43,7 +54,7 @@ def rendered(figure: Figure, suffix: str) -> bytes:
     return buffer.getvalue()
 
 
-@draw.register(Convergence)
+@drawer.register(Convergence)
 def convergence_figure(data: Convergence) -> Figure:
     """Best (left) and average (right) fitness by generation: the mean over runs with its 95 %
     confidence band (t interval of the mean), as the paper's Figs. 3, 4 and 6 without the band."""
@@ -56,7 +67,9 @@ def convergence_figure(data: Convergence) -> Figure:
         colour = f"C{index % 10}"
         for axes, band in zip(panels, (curves.best, curves.average), strict=True):
             generations = np.arange(len(band.mean))
-            axes.plot(generations, band.mean, color=colour, label=f"{curves.arm} ({curves.runs} runs)")
+            axes.plot(
+                generations, band.mean, color=colour, label=f"{printable(curves.arm)} ({curves.runs} runs)"
+            )
             if band.half is not None:
                 low, high = band.mean - band.half, band.mean + band.half
                 axes.fill_between(generations, low, high, color=colour, alpha=0.2, linewidth=0)
@@ -70,12 +83,12 @@ def convergence_figure(data: Convergence) -> Figure:
     return figure
 
 
-@draw.register(Fronts)
+@drawer.register(Fronts)
 def front_figure(data: Fronts) -> Figure:
     """Every pair of objectives as a scatter of each run's front (one colour per run)."""
     from matplotlib.figure import Figure
 
-    name, fronts = data.arm, data.fronts
+    name, fronts = printable(data.arm), data.fronts
     objectives = fronts[0].objectives
     pairs = [(a, b) for a in range(len(objectives)) for b in range(a + 1, len(objectives))]
     columns = min(3, len(pairs))
@@ -91,8 +104,8 @@ def front_figure(data: Fronts) -> Figure:
                 color=f"C{front.run % 10}",
                 label=f"run {front.run} ({len(front.points)})",
             )
-        panel.set_xlabel(objectives[a])
-        panel.set_ylabel(objectives[b])
+        panel.set_xlabel(printable(objectives[a]))
+        panel.set_ylabel(printable(objectives[b]))
         panel.grid(alpha=0.3)
     for panel in panels[len(pairs) :]:
         panel.set_visible(False)
@@ -104,14 +117,14 @@ def front_figure(data: Fronts) -> Figure:
     return figure
 
 
-@draw.register(RepertoireMap)
+@drawer.register(RepertoireMap)
 def archive_figure(data: RepertoireMap) -> Figure:
     """The best fitness in each cell (left) and how many runs filled it (right), as heat maps,
     the cells the report animates outlined."""
     from matplotlib.figure import Figure
     from matplotlib.ticker import MaxNLocator
 
-    name, repertoire, chosen = data.arm, data.repertoire, data.chosen
+    name, repertoire, chosen = printable(data.arm), data.repertoire, data.chosen
     d = repertoire.descriptors
     best = repertoire.best if repertoire.best.ndim == 2 else repertoire.best[:, None]
     coverage = repertoire.coverage if repertoire.coverage.ndim == 2 else repertoire.coverage[:, None]
@@ -134,8 +147,8 @@ def archive_figure(data: RepertoireMap) -> Figure:
             values.T, origin="lower", extent=(*x, *y), aspect="auto", cmap=cmap, interpolation="nearest"
         )
         figure.colorbar(image, ax=panel, label=label, ticks=ticks)
-        panel.set_xlabel(d[0]["name"])
-        panel.set_ylabel(d[1]["name"] if len(d) > 1 else "")
+        panel.set_xlabel(printable(d[0]["name"]))
+        panel.set_ylabel(printable(d[1]["name"]) if len(d) > 1 else "")
     width = (x[1] - x[0]) / best.shape[0]
     height = (y[1] - y[0]) / best.shape[1]
     for cell in chosen:
@@ -159,7 +172,7 @@ def _rectangle(corner: tuple[float, float], width: float, height: float, label: 
     return Rectangle(corner, width, height, fill=False, edgecolor="red", linewidth=1.5, label=label)
 
 
-@draw.register(RealismCurves)
+@drawer.register(RealismCurves)
 def realism_figure(data: RealismCurves) -> Figure:
     """The fetlock and protraction curves of the arms' best gaits over one stride, from the hoof's
     footfall, each arm in its colour, on the real walks' mean and SD (grey)."""
@@ -181,12 +194,16 @@ def realism_figure(data: RealismCurves) -> Figure:
             if arm.best is not None:
                 curve = arm.best[name]
                 panel.plot(
-                    np.arange(len(curve)) / len(curve), curve, color=colour, linewidth=2, label=arm.arm
+                    np.arange(len(curve)) / len(curve),
+                    curve,
+                    color=colour,
+                    linewidth=2,
+                    label=printable(arm.arm),
                 )
         panel.set_title(CURVE_TITLES[name], fontsize="medium")
         panel.grid(alpha=0.3)
     for panel in panels[2:]:
         panel.set_xlabel("share of the stride, from the hoof's footfall")
     panels[0].legend(fontsize="small")
-    figure.suptitle(data.title)
+    figure.suptitle(printable(data.title))
     return figure

@@ -15,6 +15,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from gaitgram import jsonio
+from gaitgram.study import escape
 from gaitgram.study.model import (
     Column,
     Kind,
@@ -33,7 +34,7 @@ from gaitgram.study.model import (
 def markdown(report: StudyReport) -> str:
     """Every section in order; figures are the files beside it (a section of figures only is not
     in it)."""
-    lines = [f"# {report.title}"] if report.title else []
+    lines = [f"# {escape.markdown(report.title)}"] if report.title else []
     for section in report.document:
         lines += _markdown_section(section)
     if not report.title:
@@ -46,8 +47,8 @@ def _markdown_section(section: Section) -> list[str]:
         return []
     lines = []
     if section.title:
-        scope = f" ({section.scope})" if section.scope else ""
-        lines += ["", f"**{section.title}**{scope}:"]
+        scope = f" ({escape.markdown(section.scope)})" if section.scope else ""
+        lines += ["", f"**{escape.markdown(section.title)}**{scope}:"]
     if section.text:
         lines += ["", section.text]
     for table in section.tables:
@@ -56,7 +57,7 @@ def _markdown_section(section: Section) -> list[str]:
         comparison = tests.comparison
         lines += [
             "",
-            f"**{tests.label}**: Kruskal-Wallis H = {value_text(comparison.kruskal_h)}, "
+            f"**{escape.markdown(tests.label)}**: Kruskal-Wallis H = {value_text(comparison.kruskal_h)}, "
             f"p = {p_text(comparison.kruskal_p)}.",
             "",
             *_markdown_table(tests.table()),
@@ -76,13 +77,21 @@ def _markdown_table(table: Table) -> list[str]:
     caption = [f"*{table.caption}*", ""] if table.caption else []
     return [
         *caption,
-        "| " + " | ".join(c.header for c in table.columns) + " |",
+        "| " + " | ".join(escape.markdown(c.header) for c in table.columns) + " |",
         "|" + "|".join("---" if left_aligned(c) else "---:" for c in table.columns) + "|",
         *(
-            "| " + " | ".join(cell_text(c.kind, v) for c, v in zip(table.columns, row, strict=True)) + " |"
+            "| "
+            + " | ".join(_markdown_cell(c.kind, v) for c, v in zip(table.columns, row, strict=True))
+            + " |"
             for row in table.rows
         ),
     ]
+
+
+def _markdown_cell(kind: Kind, value: Any) -> str:
+    """A text cell escaped (a name); a number's text holds no markup."""
+    text = cell_text(kind, value)
+    return escape.markdown(text) if kind is Kind.TEXT else text
 
 
 # ---- CSV -----------------------------------------------------------------------------------------
@@ -108,11 +117,17 @@ _SUMMARY_CSV = (
 
 
 def _csv(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
-    out = io.StringIO()
-    writer = csv.writer(out, lineterminator="\n")
-    writer.writerow(header)
-    writer.writerows(["" if value is None else value for value in row] for row in rows)
-    return out.getvalue()
+    """Rows ended by ``\\n``; a value holding ``\\r`` or ``\\n`` is quoted (the csv module quotes
+    only the characters of its line terminator, so each row is written ended by ``\\r\\n``, then
+    ended again)."""
+    lines = []
+    for row in [header, *rows]:
+        out = io.StringIO()
+        csv.writer(out, lineterminator="\r\n").writerow(
+            ["" if v is None else escape.encodable(v) for v in row]
+        )
+        lines.append(out.getvalue().removesuffix("\r\n") + "\n")
+    return "".join(lines)
 
 
 def csv_text(report: StudyReport) -> str:
@@ -168,22 +183,10 @@ def _flat(columns: Sequence[Column], row: Sequence[Any]) -> list[Any]:
 # ---- LaTeX ---------------------------------------------------------------------------------------
 
 
-def _tex(text: str) -> str:
-    for char, escaped in (
-        ("\\", r"\textbackslash{}"),
-        ("&", r"\&"),
-        ("%", r"\%"),
-        ("_", r"\_"),
-        ("#", r"\#"),
-    ):
-        text = text.replace(char, escaped)
-    return text
-
-
 def _tabular(comment: str, spec: str, header: str, rows: Sequence[str]) -> list[str]:
     """One booktabs table, after a comment line saying what it holds."""
     return [
-        f"% {comment}",
+        f"% {escape.printable(comment)}",
         f"\\begin{{tabular}}{{{spec}}}",
         "\\toprule",
         f"{header} \\\\",
@@ -200,13 +203,13 @@ def latex(report: StudyReport) -> str:
     pairwise tests, then every table of the further sections."""
     g = value_text
     summary = [
-        f"{_tex(s.name)} & {s.runs} & {g(s.mean_best)} & {g(s.sd_best)} & {g(s.mean_average)} & "
-        f"{g(s.sd_average)} & {_tex(cell_text(Kind.SHARE_INTERVAL, s.walk_rate_cell))} & "
-        f"{_tex(share_text(s.walk_held_rate))}"
+        f"{escape.latex(s.name)} & {s.runs} & {g(s.mean_best)} & {g(s.sd_best)} & {g(s.mean_average)} & "
+        f"{g(s.sd_average)} & {escape.latex(cell_text(Kind.SHARE_INTERVAL, s.walk_rate_cell))} & "
+        f"{escape.latex(share_text(s.walk_held_rate))}"
         for s in report.summaries
     ]
     pairs = [
-        f"{_tex(p.first)} vs {_tex(p.second)} & {p_text(p.p_holm)} & {p.a12:.3f} & {p.magnitude}"
+        f"{escape.latex(f'{p.first} vs {p.second}')} & {p_text(p.p_holm)} & {p.a12:.3f} & {p.magnitude}"
         for p in report.best.pairs
     ]
     lines = [
@@ -231,9 +234,11 @@ def latex(report: StudyReport) -> str:
             lines += _tabular(
                 f"{section.title}: {label}" if label else section.title,
                 "".join("l" if left_aligned(c) else "r" for c in table.columns),
-                " & ".join(_tex(c.header) for c in table.columns),
+                " & ".join(escape.latex(c.header) for c in table.columns),
                 [
-                    " & ".join(_tex(cell_text(c.kind, v)) for c, v in zip(table.columns, row, strict=True))
+                    " & ".join(
+                        escape.latex(cell_text(c.kind, v)) for c, v in zip(table.columns, row, strict=True)
+                    )
                     for row in table.rows
                 ],
             )
@@ -244,7 +249,7 @@ def latex(report: StudyReport) -> str:
 
 
 def json_text(report: StudyReport) -> str:
-    return jsonio.dumps(report.as_json(), indent=1) + "\n"
+    return jsonio.dumps(escape.encodable(report.as_json()), indent=1) + "\n"
 
 
 def text_files(report: StudyReport) -> dict[str, str]:

@@ -19,6 +19,7 @@ import numpy as np
 from gaitgram.evolution.rundir import KeptGait, RunDirectory, RunDirectoryError, best_walk_of_runs
 from gaitgram.pipeline import PipelineError
 from gaitgram.strategies.kept import Front, Repertoire
+from gaitgram.study import escape
 from gaitgram.study.model import Figure, Gait, Section, figure_name
 from gaitgram.study.records import ArmRecord, ReportError
 
@@ -71,13 +72,16 @@ def gaits_section(
     for arm in arms:
         walk = best_walk(arm) if gaits else None
         if walk is not None:
-            caption = f"{arm.name}: its best walk (run {walk.run}, fitness {walk.evaluation.fitness:.4g})"
+            fitness = walk.evaluation.fitness
+            caption = f"{escape.markdown(arm.name)}: its best walk (run {walk.run}, fitness {fitness:.4g})"
             figures.append(_gif(figure_name("walk", arm.name, ""), caption, arm, walk.genome))
         found = fronts[arm.name]
         if found and gaits:
             members = trade_offs(found[0], gaits)
             for k, member in enumerate(members):
-                caption = f"{arm.name}: trade-off {k + 1} of {len(members)} along run 0's front"
+                caption = (
+                    f"{escape.markdown(arm.name)}: trade-off {k + 1} of {len(members)} along run 0's front"
+                )
                 figures.append(
                     _gif(figure_name("front", f"{arm.name}-{k}", ""), caption, arm, member["genome"])
                 )
@@ -93,7 +97,7 @@ def gaits_section(
             for cell in chosen:
                 where = ",".join(map(str, cell))
                 stem = figure_name("cell", f"{arm.name}-{'-'.join(map(str, cell))}", "")
-                caption = f"{arm.name}: the best gait of cell {where}"
+                caption = f"{escape.markdown(arm.name)}: the best gait of cell {where}"
                 figures.append(_gif(stem, caption, arm, repertoire.elites[cell]["genome"]))
     if not figures:
         return None

@@ -11,12 +11,13 @@ opens from a file. The same report gives the same page, byte for byte.
 from __future__ import annotations
 
 import base64
+import html as markup
 import math
 import re
 from collections.abc import Mapping, Sequence
-from html import escape
 from typing import Any
 
+from gaitgram.study import escape
 from gaitgram.study.formats import left_aligned
 from gaitgram.study.model import (
     LEADING,
@@ -109,17 +110,17 @@ def html(report: StudyReport, images: Mapping[str, bytes], *, refresh: float | N
         '<meta charset="utf-8">',
         '<meta name="viewport" content="width=device-width, initial-scale=1">',
         *([f'<meta http-equiv="refresh" content="{max(1, math.ceil(refresh))}">'] if refresh else []),
-        f"<title>{escape(title)}</title>",
+        f"<title>{escape.html(title)}</title>",
         f"<style>{STYLE}</style>",
         "</head>",
         "<body>",
-        f"<h1>{escape(title)}</h1>",
+        f"<h1>{escape.html(title)}</h1>",
     ]
     body = [line for section in report.document for line in _section(section, images)]
     arm = report.arms[0]
     scored = f"Scored by {arm.backend} ({arm.backend_version}). " if arm.backend else ""
     tail = [
-        f"<footer>{escape(scored)}Made by <code>gaitgram report</code>.</footer>",
+        f"<footer>{escape.html(scored)}Made by <code>gaitgram report</code>.</footer>",
         f"<script>{SCRIPT}</script>",
         "</body>",
         "</html>",
@@ -129,10 +130,10 @@ def html(report: StudyReport, images: Mapping[str, bytes], *, refresh: float | N
 
 def _section(section: Section, images: Mapping[str, bytes]) -> list[str]:
     css = ' class="progress"' if section.name in LEADING else ""
-    lines = [f'<section id="{escape(section.name)}"{css}>']
+    lines = [f'<section id="{escape.html(section.name)}"{css}>']
     if section.title:
-        scope = f' <span class="scope">({escape(section.scope)})</span>' if section.scope else ""
-        lines.append(f"<h2>{escape(section.title)}{scope}</h2>")
+        scope = f' <span class="scope">({escape.html(section.scope)})</span>' if section.scope else ""
+        lines.append(f"<h2>{escape.html(section.title)}{scope}</h2>")
     if section.text:
         lines.append(f"<p>{_inline(section.text)}</p>")
     for table in section.tables:
@@ -140,7 +141,7 @@ def _section(section: Section, images: Mapping[str, bytes]) -> list[str]:
     for tests in section.tests:
         comparison = tests.comparison
         lines += [
-            f"<h3>Rank tests: {escape(tests.label)}</h3>",
+            f"<h3>Rank tests: {escape.html(tests.label)}</h3>",
             f"<p>Kruskal-Wallis H = {value_text(comparison.kruskal_h)}, {_p_is(comparison.kruskal_p)}.</p>",
             *_table(tests.table(), f"{section.name}-{_slug(tests.label)}"),
         ]
@@ -159,7 +160,7 @@ def _section(section: Section, images: Mapping[str, bytes]) -> list[str]:
 def _table(table: Table, identifier: str) -> list[str]:
     numeric = [not left_aligned(c) for c in table.columns]
     header = "".join(
-        f'<th scope="col" tabindex="0" aria-sort="none"{_NUM if n else ""}>{escape(c.header)}</th>'
+        f'<th scope="col" tabindex="0" aria-sort="none"{_NUM if n else ""}>{escape.html(c.header)}</th>'
         for c, n in zip(table.columns, numeric, strict=True)
     )
     rows = [
@@ -170,7 +171,7 @@ def _table(table: Table, identifier: str) -> list[str]:
     ]
     caption = [f"<caption>{_inline(table.caption)}</caption>"] if table.caption else []
     return [
-        f'<div class="wide"><table class="sortable" id="{escape(identifier)}">',
+        f'<div class="wide"><table class="sortable" id="{escape.html(identifier)}">',
         *caption,
         f"<thead><tr>{header}</tr></thead>",
         "<tbody>",
@@ -181,7 +182,7 @@ def _table(table: Table, identifier: str) -> list[str]:
 
 
 def _cell(kind: Kind, value: Any, numeric: bool) -> str:
-    text = escape(cell_text(kind, value))
+    text = escape.html(cell_text(kind, value))
     if kind is Kind.TEXT:
         return f"<td>{text}</td>"
     number = value[0] if kind.interval and value is not None else value
@@ -198,8 +199,8 @@ def _figure(figure: Figure, images: Mapping[str, bytes]) -> list[str]:
     data = base64.b64encode(images[f"{figure.name}.{suffix}"]).decode("ascii")
     caption = _inline(figure.caption)
     return [
-        f'<figure id="{escape(figure.name)}">',
-        f'<img src="data:{EMBEDDED[suffix]};base64,{data}" alt="{escape(figure.caption)}">',
+        f'<figure id="{escape.html(figure.name)}">',
+        f'<img src="data:{EMBEDDED[suffix]};base64,{data}" alt="{escape.html(_plain(figure.caption))}">',
         f"<figcaption>{caption}</figcaption>",
         "</figure>",
     ]
@@ -207,7 +208,7 @@ def _figure(figure: Figure, images: Mapping[str, bytes]) -> list[str]:
 
 def _p_is(value: float) -> str:
     text = p_text(value)
-    return escape(f"p {text}" if text.startswith("<") else f"p = {text}")
+    return escape.html(f"p {text}" if text.startswith("<") else f"p = {text}")
 
 
 def _slug(text: str) -> str:
@@ -221,9 +222,30 @@ _INLINE: Sequence[tuple[re.Pattern[str], str]] = (
 )
 
 
+#: What stands for a character in the prose: a Markdown backslash escape, or a character reference
+#: (:func:`gaitgram.study.escape.markdown` writes both into the names it puts in prose).
+_LITERAL = re.compile(r"\\([!-/:-@\[-`{-~])|&#([0-9]{1,7});")
+_HELD = re.compile("\x00([0-9]+)\x00")
+
+
 def _inline(text: str) -> str:
-    """The report's prose (Markdown inline: `code`, **strong**, *em*) as HTML, escaped first."""
-    text = escape(text, quote=False)
+    """The report's prose (Markdown inline: `code`, **strong**, *em*) as HTML, escaped first; a
+    character the Markdown escapes is that character, never markup."""
+    held: list[str] = []
+
+    def hold(match: re.Match[str]) -> str:
+        code = int(match.group(2) or 0)
+        if match.group(1) is None and not 0 < code <= 0x10FFFF:
+            return match.group()
+        held.append(escape.html(match.group(1) or chr(code), quote=False))
+        return f"\x00{len(held) - 1}\x00"  # no NUL is left in printable text
+
+    text = markup.escape(_LITERAL.sub(hold, escape.printable(text)), quote=False)  # printable already
     for pattern, replacement in _INLINE:
         text = pattern.sub(replacement, text)
-    return text
+    return _HELD.sub(lambda match: held[int(match.group(1))], text)
+
+
+def _plain(text: str) -> str:
+    """The prose's text alone (a figure's ``alt``)."""
+    return markup.unescape(re.sub(r"<[^>]*>", "", _inline(text)))

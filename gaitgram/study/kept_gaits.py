@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from gaitgram.packaged import packaged
+from gaitgram.study import escape
 from gaitgram.study.assess import ASSESSMENT, FORMAT, MEASURED_ON, assessment_path, best_walk_path, kept_key
 from gaitgram.study.model import Column, Figure, Kind, RankTests, Section, Table, figure_name
 from gaitgram.study.records import ArmRecord, ReportError
@@ -288,7 +289,7 @@ def _pending_note(assessed: ArmAssessed) -> str | None:
     if not parts:
         return None
     return (
-        f"**{assessed.arm}**: of {assessed.runs} runs' best gaits, {' and '.join(parts)}: "
+        f"**{escape.markdown(assessed.arm)}**: of {assessed.runs} runs' best gaits, {' and '.join(parts)}: "
         "`gaitgram report --assess` measures them"
     )
 
@@ -447,7 +448,8 @@ def realism_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed]) 
         ("png", "svg"),
     )
     falls = [
-        f"**{a.arm}**: runs {', '.join(str(g.run) for g in a.found if g.gait != 'measured')} hand back "
+        f"**{escape.markdown(a.arm)}**: runs "
+        f"{', '.join(str(g.run) for g in a.found if g.gait != 'measured')} hand back "
         "a best gait that falls or does not step: nothing to measure"
         for a in assessed
         if any(g.gait != "measured" for g in a.found)
@@ -505,8 +507,8 @@ def arm_curves_figure(
     else:
         thick = f"thick: run {shown.run}'s, the best by fitness (the walk beside is not a run's best gait)"
     caption = (
-        f"{assessed.arm}: its runs' best gaits over one stride beside the real walks (grey: mean and SD); "
-        + thick
+        f"{escape.markdown(assessed.arm)}: its runs' best gaits over one stride beside the real walks "
+        "(grey: mean and SD); " + thick
     )
     data = _curves(arms, [assessed], f"{assessed.arm} beside the real walks", {assessed.arm: shown})
     return Figure(figure_name("curves", assessed.arm, ""), caption, data, ("png",))
@@ -532,7 +534,7 @@ def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed
     floored = [n for n in names if any((t := _trial(g, n)) and t.floors > 1 for a in tried for g in a.found)]
     text = (
         "Each run's best gait played from the standing horse to the horizon under each disturbance: "
-        + "; ".join(f"**{n}**: {d}" for n, d in disturbances.items())
+        + "; ".join(f"**{escape.markdown(n)}**: {escape.markdown(d)}" for n, d in disturbances.items())
         + ". A gait **holds** when it stays upright for the whole horizon and is walking again by the walk "
         "criterion over the horizon's last cycles (docs/study.md)"
         + (", on every floor where it is played on several" if floored else "")
@@ -596,9 +598,9 @@ def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed
                 why = f" (walk terms failing{first}: {terms})" if terms else ""
                 said.append(f"{len(stopped)} stayed up but were not walking again{where}{why}")
             if said:
-                failures.append(f"{t}: " + ", ".join(said))
+                failures.append(f"{escape.markdown(t)}: " + ", ".join(said))
         if failures:
-            notes.append(f"**{a.arm}**: " + "; ".join(failures))
+            notes.append(f"**{escape.markdown(a.arm)}**: " + "; ".join(failures))
     table = Table(
         "shares", tuple(columns), tuple(rows), "share of the runs' best gaits that stay upright and walking"
     )

@@ -36,6 +36,7 @@ import numpy as np
 
 from gaitgram.backends.api import Verdict
 from gaitgram.strategies.kept import Front, Repertoire
+from gaitgram.study import escape
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable, scoring_listing
 from gaitgram.study.stats import (
     Comparison,
@@ -409,25 +410,30 @@ def fronts_section(
             names = found[0].objectives
             best = np.mean([f.points.min(axis=0) for f in found if len(f.points)], axis=0)
             sizes = [len(f.points) for f in found]
+            means = zip(names, np.atleast_1d(best), strict=False)
             notes.append(
-                f"**{arm.name}** ({name}.png): Pareto fronts of {np.mean(sizes):.1f} "
-                f"gaits on average; the best of each objective, mean over runs: "
-                + ", ".join(f"{n} {value_text(v)}" for n, v in zip(names, np.atleast_1d(best), strict=False))
+                f"**{escape.markdown(arm.name)}** ({escape.markdown(name)}.png): Pareto fronts of "
+                f"{np.mean(sizes):.1f} gaits on average; the best of each objective, mean over runs: "
+                + ", ".join(f"{escape.markdown(n)} {value_text(v)}" for n, v in means)
                 + saturation(sizes, arm.population)
             )
-            caption = f"{arm.name}: the final Pareto fronts, objectives pairwise (lower is better)"
+            caption = (
+                f"{escape.markdown(arm.name)}: the final Pareto fronts, objectives pairwise (lower is better)"
+            )
             front_figures.append(Figure(name, caption, Fronts(arm.name, tuple(found))))
         if repertoire is not None:
             name = figure_name("archive", arm.name, "")
             together = int(np.sum(repertoire.coverage > 0))
-            described = ", ".join(d["name"] for d in repertoire.descriptors)
+            described = ", ".join(escape.markdown(d["name"]) for d in repertoire.descriptors)
             notes.append(
-                f"**{arm.name}** ({name}.png): "
+                f"**{escape.markdown(arm.name)}** ({escape.markdown(name)}.png): "
                 f"{described}; {np.mean(repertoire.filled):.1f} of "
                 f"{repertoire.cells} cells filled per run, {together} by the runs together; best gait "
                 f"{value_text(float(np.nanmin(repertoire.best)))}"
             )
-            caption = f"{arm.name}: the best fitness in each cell, and how many runs filled it"
+            caption = (
+                f"{escape.markdown(arm.name)}: the best fitness in each cell, and how many runs filled it"
+            )
             cells = tuple(outlined.get(arm.name, ()))
             archive_figures.append(Figure(name, caption, RepertoireMap(arm.name, repertoire, cells)))
     if not notes:
@@ -766,7 +772,8 @@ def scoring_section(arms: Sequence[ArmRecord]) -> Section:
         "Scored differently",
         "the fitness values do not compare across these arms",
         text=(
-            f"The arms were scored under different settings ({scoring_listing(arms)}): their fitness "
+            f"The arms were scored under different settings ({escape.markdown(scoring_listing(arms))}): "
+            "their fitness "
             "values, and the rank tests on them (final best, final average, first-generation best), "
             "measure different things and are not to be compared across these arms. Walks, realism "
             "and robustness are measured the same way on every arm's gaits, and compare."

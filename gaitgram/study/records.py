@@ -27,6 +27,7 @@ from gaitgram.evolution.rundir import CONFIG, MANIFEST, RunDirectoryError, read_
 from gaitgram.pipeline import DEFAULT_BACKEND
 from gaitgram.plugins import PluginLoadError, PluginNotFound
 from gaitgram.strategies.kept import RecordError, kept_members
+from gaitgram.study import escape
 from gaitgram.study.manifest import STUDY_MANIFEST, read_study_manifest
 from gaitgram.study.spec import StudyError
 
@@ -173,7 +174,7 @@ def load_arm(
     scoring = _scoring(backend or config.backend or DEFAULT_BACKEND, config.backend_settings)
     runs = tuple(_load_run(path / f"run-{run:03d}", config.generations, redo, verdict) for run in numbers)
     return ArmRecord(
-        name or path.name,
+        name or escape.encodable(path.name),
         strategy or config.strategy,
         path,
         config.budget,
@@ -407,7 +408,7 @@ def load_arms(
     _refuse_duplicates(arms)
     names = [a.name for a in arms]
     if len(set(names)) != len(names):
-        arms = [replace(a, name=str(a.path)) for a in arms]
+        arms = [replace(a, name=escape.encodable(str(a.path))) for a in arms]
     return arms, " + ".join(titles)
 
 

@@ -53,6 +53,7 @@ from gaitgram.fileio import (
 from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts, load_repertoire
 from gaitgram.study.assess import assess_arms
 from gaitgram.study.figures import draw, rendered
+from gaitgram.study import escape
 from gaitgram.study.formats import text_files
 from gaitgram.study.gallery import gaits_section, render_gaits, spread_cells
 from gaitgram.study.html import html
@@ -278,7 +279,7 @@ def window_section(arms: Sequence[ArmRecord]) -> Section | None:
     if not grown:
         return None
     first = min(a.planned_runs for a in arms)
-    names = ", ".join(a.name for a in grown)
+    names = ", ".join(escape.markdown(a.name) for a in grown)
     return Section(
         "window",
         "First runs only",
@@ -303,7 +304,9 @@ def progress_section(arms: Sequence[ArmRecord], planned: int, interval: float | 
     finished = sum(len(a.runs) for a in arms)
     if finished >= planned:
         return None
-    per_arm = ", ".join(f"{a.name} {len(a.runs)} of {max(a.planned_runs, len(a.runs))}" for a in arms)
+    per_arm = ", ".join(
+        f"{escape.markdown(a.name)} {len(a.runs)} of {max(a.planned_runs, len(a.runs))}" for a in arms
+    )
     return Section(
         "progress",
         "Study in progress",
