@@ -23,7 +23,7 @@ from gaitgram.language.model import FREQUENCY, Grammar, Rule, Terminal
 from gaitgram.language.source import Span
 from gaitgram.motion.names import builtin, words
 
-__all__ = ["NameUse", "SensorScope", "name_uses", "sensors_lacking"]
+__all__ = ["NameUse", "SensorScope", "motion_rules", "name_uses", "sensor_uses", "sensors_lacking"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -44,9 +44,10 @@ class NameUse:
         return builtin(self.name)
 
 
-def name_uses(grammar: Grammar, facts: GrammarFacts) -> list[NameUse]:
-    """Every name in the motion text of ``grammar``, in document order: the text of the joint
-    (and frequency) rules the start rule reaches, as derivations read it."""
+def motion_rules(grammar: Grammar, facts: GrammarFacts) -> dict[str, tuple[str, ...]]:
+    """The rules whose terminals are motion text, in document order, each with its readers: the
+    joints (and :data:`~gaitgram.language.model.FREQUENCY`) whose rules, reached from the start
+    rule, reach it."""
     cfg = facts.cfg
     roots = [(j.joint, j.rule) for j in grammar.joints]
     if grammar.frequency is not None:
@@ -59,13 +60,33 @@ def name_uses(grammar: Grammar, facts: GrammarFacts) -> list[NameUse]:
         for reached, yes in enumerate(reachable_from(cfg, [index])):
             if yes and cfg.kinds[reached] is RuleKind.DEFINED and reader not in readers.get(reached, ()):
                 readers.setdefault(reached, []).append(reader)
+    rules = grammar.rules_by_name
+    ordered = sorted(readers, key=lambda i: rules[cfg.names[i]].span.start)
+    return {cfg.names[i]: tuple(readers[i]) for i in ordered}
+
+
+def name_uses(grammar: Grammar, facts: GrammarFacts) -> list[NameUse]:
+    """Every name in the motion text of ``grammar``, in document order."""
     found: list[NameUse] = []
-    for index in sorted(readers, key=lambda i: grammar.rules_by_name[cfg.names[i]].span.start):
-        rule = grammar.rules_by_name[cfg.names[index]]
-        who = tuple(readers[index])
+    for name, who in motion_rules(grammar, facts).items():
+        rule = grammar.rules_by_name[name]
         for terminal, span in _terminals(rule):
-            for name, at, called in _located(grammar.source.text, terminal.text, span):
-                found.append(NameUse(name, at, rule.name, called, who))
+            for word, at, called in _located(grammar.source.text, terminal.text, span):
+                found.append(NameUse(word, at, rule.name, called, who))
+    return found
+
+
+def sensor_uses(grammar: Grammar, facts: GrammarFacts) -> list[tuple[NameUse, Sensor, str]]:
+    """The names of motion text that are sensors, each with its sensor and the backend that has
+    it: the grammar's backend, or (none declared) the first installed one that does."""
+    scope = SensorScope(grammar.backend if grammar.declared.get("backend") is not None else None)
+    found = []
+    for use in name_uses(grammar, facts):
+        if use.builtin or use.called:
+            continue
+        sensor = scope.sensor(use.name)
+        if sensor is not None:
+            found.append((use, sensor, scope.backend or scope.offered_by(use.name)[0]))
     return found
 
 

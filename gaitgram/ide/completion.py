@@ -9,7 +9,8 @@ current line. Contexts:
   refer to (``Parameter.refers``): rules, installed backends, the declared backend's joints,
   a joint's limits (the backend's) and freedom (the paper's Table 3), or the choices;
 * a right-hand side: rule references (their first production as detail), nearest rules
-  first and filtered by what is typed, and typed-range snippets;
+  first and filtered by what is typed, and typed-range snippets; in a curve's text (a rule that
+  a ``@joint`` rule reaches), the backend's sensors that its joints may read, with their units;
 * ``<`` at the start of a line, where a new rule's name is typed: no rule names, only the
   names used but not defined yet, and the new-rule snippet;
 * nothing inside a comment or a string.
@@ -18,19 +19,20 @@ current line. Contexts:
 from __future__ import annotations
 
 import re
-from bisect import bisect_left
+from bisect import bisect_left, bisect_right
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from decimal import Decimal
 from enum import Enum, StrEnum
 
 from gaitgram.analysis import CheckResult
 from gaitgram.analysis.cfg import Cfg, RuleKind
+from gaitgram.analysis.motion_text import SensorScope, motion_rules
 from gaitgram.backends.catalogue import Joint
 from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backend_names, get_backend
-from gaitgram.ide.hover import annotation_doc
+from gaitgram.ide.hover import annotation_doc, describe_sensor
 from gaitgram.language.annotations import ANNOTATIONS, AnnotationKind, Parameter, Refers
-from gaitgram.language.model import Rule
+from gaitgram.language.model import FREQUENCY, Rule
 
 __all__ = [
     "MAX_ITEMS",
@@ -46,6 +48,7 @@ __all__ = [
     "complete",
     "context",
     "joints_of",
+    "readable_sensors",
 ]
 
 #: Lists are cut here; the client asks again as more is typed.
@@ -82,6 +85,10 @@ class CompletionModel:
     units: str = "deg"
     #: Joint name -> the rule that drives it.
     driven: dict[str, str] = field(default_factory=dict)
+    #: Per rule (parallel to ``names``; empty if no rule is a curve's text): the sensors its text
+    #: may read, and each sensor's (unit, Markdown description).
+    readable: tuple[tuple[str, ...], ...] = ()
+    sensors: dict[str, tuple[str, str]] = field(default_factory=dict)
     #: The rules' names in lower case: what ranking reads.
     folded: tuple[str, ...] = field(init=False, repr=False)
 
@@ -101,6 +108,7 @@ class CompletionModel:
             backend=grammar.backend,
             units=grammar.units,
             driven={j.joint: j.rule for j in grammar.joints},
+            **readable_sensors(result),
         )
 
     def entry(self, index: int) -> RuleEntry:
@@ -110,6 +118,33 @@ class CompletionModel:
     @property
     def rules(self) -> list[RuleEntry]:
         return [self.entry(i) for i in range(len(self.names))]
+
+
+def readable_sensors(result: CheckResult) -> dict[str, object]:
+    """``readable`` and ``sensors`` of a :class:`CompletionModel`: per rule, the sensors its text may
+    read (none in the @frequency rule's, only those its joints' groups may read), and what each is."""
+    grammar = result.grammar
+    rules = motion_rules(grammar, result.facts) if grammar.joints else {}
+    if not rules:
+        return {}
+    scope = SensorScope(grammar.backend if grammar.declared.get("backend") is not None else None)
+    offered = (
+        {s.name: (s, scope.backend) for s in scope.sensors}
+        if scope.backend is not None
+        else {s.name: (s, b) for b, c in reversed(scope.installed.items()) for s in c}
+    )
+    described = {name: (s.unit, describe_sensor(s, b)) for name, (s, b) in offered.items()}
+
+    def readable(readers: tuple[str, ...]) -> tuple[str, ...]:
+        if FREQUENCY in readers:
+            return ()
+        groups = {j.group for r in readers if scope.joints and (j := scope.joints.get(r)) is not None}
+        return tuple(n for n, (s, _) in offered.items() if all(s.readable_by(g) for g in groups))
+
+    return {
+        "readable": tuple(readable(rules[name]) if name in rules else () for name in grammar.rules_by_name),
+        "sensors": described,
+    }
 
 
 def _undefined(cfg: Cfg) -> tuple[tuple[str, str], ...]:
@@ -249,6 +284,7 @@ class CompletionKind(StrEnum):
     BACKEND = "backend"
     VALUE = "value"  # a suggested value (a joint's limits, its freedom)
     SNIPPET = "snippet"
+    SENSOR = "sensor"  # a backend's sensor, in a curve's text
 
 
 @dataclass(frozen=True, slots=True)
@@ -281,6 +317,11 @@ def complete(
     found = context(line_text[:column], line_text[column:])
     items: list[Completion] = []
     incomplete = False
+    sensors = _sensors_here(model, line) if found.where is Where.RULE and not found.bracket else ()
+    if sensors:  # a curve's text: the word is a name of motion text (``0.2*pi`` types ``pi``)
+        typed = re.search(r"\w*$", line_text[:column]).group()  # type: ignore[union-attr]
+        tail = re.match(r"\w*", line_text[column:]).group()  # type: ignore[union-attr]
+        found = replace(found, typed=typed, start=column - len(typed), end=column + len(tail))
     if (trigger == " " and found.where not in (Where.ARGUMENT, Where.KEYWORD)) or (
         trigger == "@" and found.where is not Where.ANNOTATION
     ):  # a space in a rule is not a request; nor is an @ that starts no annotation
@@ -355,7 +396,27 @@ def complete(
                 )
                 for i, (label, body, plain) in enumerate(RANGE_SNIPPETS)
             ]
+            items += [
+                Completion(
+                    name,
+                    CompletionKind.SENSOR,
+                    name,
+                    model.sensors[name][0],
+                    model.sensors[name][1],
+                    filter_text=name,
+                    sort_text=f"!{name}",  # in a curve's text, before the rules
+                )
+                for name in sensors
+            ]
     return Completions(items, incomplete, found.start, found.end)
+
+
+def _sensors_here(model: CompletionModel, line: int) -> tuple[str, ...]:
+    """The sensors the text of the rule at ``line`` may read (none outside a curve's text)."""
+    if not model.readable:
+        return ()
+    index = bisect_right(model.lines, line) - 1
+    return model.readable[index] if index >= 0 else ()
 
 
 def _rank(model: CompletionModel, typed: str, line: int) -> tuple[list[RuleEntry], bool]:

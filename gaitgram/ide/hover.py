@@ -1,10 +1,11 @@
 """Hover: what gaitgram knows about the thing under the cursor, as Markdown.
 
 A rule name shows the rule's productions and its facts (choices, minimum depth, productive,
-reachable, recursive) and, for a ``@joint`` rule, the joint; a typed range its values; an
-annotation its documentation; an argument what it names (by its parameter's ``refers``: a
-backend, a joint with its limits and freedom schedule). The hints of the diagnostics under
-the cursor come last.
+reachable, recursive) and, for a ``@joint`` rule, the joint; a typed range its values; a sensor
+in a curve's text what it reads (its description, unit, whether per limb or periodic, its reading
+at rest); an annotation its documentation; an argument what it names (by its parameter's
+``refers``: a backend, a joint with its limits and freedom schedule). The hints of the diagnostics
+under the cursor come last.
 """
 
 from __future__ import annotations
@@ -12,8 +13,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from gaitgram.analysis import CheckResult
+from gaitgram.analysis.motion_text import sensor_uses
 from gaitgram.backends.catalogue import Joint
 from gaitgram.backends.registry import BackendLoadError, BackendNotFound, get_backend
+from gaitgram.backends.sensors import Sensor
 from gaitgram.ide.navigation import name_at
 from gaitgram.language.annotations import ANNOTATIONS, AnnotationKind, Refers, parameter_of
 from gaitgram.language.model import Annotation, Grammar, JointDecl, Name, RangeSpec, RangeSymbol
@@ -27,6 +30,7 @@ __all__ = [
     "describe_joint",
     "describe_range",
     "describe_rule",
+    "describe_sensor",
     "hover",
 ]
 
@@ -63,6 +67,9 @@ def _describe(result: CheckResult, offset: int) -> tuple[str, Span] | None:
                 if isinstance(symbol, RangeSymbol) and offset in (span := rule.span_of(symbol)):
                     whole = alternative.range_values is not None
                     return describe_range(symbol.spec, whole=whole), span
+        for use, sensor, backend in sensor_uses(grammar, result.facts):
+            if use.rule == rule.name and use.span.start <= offset <= use.span.end:
+                return describe_sensor(sensor, backend), use.span
     name = name_at(grammar, offset)
     if name is not None:
         return describe_rule(result, name.name), name.span
@@ -158,6 +165,27 @@ def describe_joint(name: str, backend: str | None, declared: JointDecl | None, u
             lines.append(
                 f"- this grammar: free from generation {first}{until}; before, it holds its neutral angle"
             )
+    return "\n".join(lines)
+
+
+def describe_sensor(sensor: Sensor, backend: str) -> str:
+    """What a sensor reads, as its backend declares it (``sensors.toml``)."""
+    head = f"**`{sensor.name}`**: a sensor of {backend}, in {sensor.unit}\n\n{sensor.description}\n"
+    lines = [head]
+    if sensor.per_limb:
+        lines.append(
+            "- per limb: each limb's curve reads its own limb"
+            + (f" (only {', '.join(sorted(sensor.groups))} joints may read it)" if sensor.groups else "")
+        )
+    else:
+        lines.append("- of the whole body: every curve reads the same value")
+    if sensor.periodic:
+        lines.append(
+            "- periodic: a phase in [0, 1) that advances with the cycle like `t`, read at every step"
+        )
+    else:
+        lines.append("- read at the control rate and held between ticks")
+    lines.append(f"- nominal reading (at rest) {sensor.nominal:g}: what plots of a closed loop assume")
     return "\n".join(lines)
 
 

@@ -1,6 +1,7 @@
 """Semantic tokens: rule names, terminals, ranges, annotations and comments, as the parser
 reads them (so ``'#'`` is a terminal and ``float[i]`` plain text, unlike in a regex
-highlighter). Rule heads are declarations.
+highlighter). Rule heads are declarations; the sensors a curve's text reads
+(:func:`sensor_spans`) are cut out of their terminals as tokens of their own.
 
 Each right-hand side is split into pieces by the parser's own scanner
 (``gaitgram.language.syntax.pieces``); the model gives rule heads and annotation arguments.
@@ -8,13 +9,17 @@ Each right-hand side is split into pieces by the parser's own scanner
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from enum import IntEnum
 
+from gaitgram.analysis import CheckResult
+from gaitgram.analysis.motion_text import sensor_uses
 from gaitgram.language.model import Argument, Grammar, Interval, Name, RuleRef
+from gaitgram.language.source import Span
 from gaitgram.language.syntax import pieces as split_pieces
 
-__all__ = ["Token", "TokenType", "overlapping", "tokens"]
+__all__ = ["Token", "TokenType", "overlapping", "sensor_spans", "tokens"]
 
 
 class TokenType(IntEnum):
@@ -26,6 +31,7 @@ class TokenType(IntEnum):
     OPERATOR = 5
     PARAMETER = 6
     NAME = 7  # a name given to an annotation: a backend, a joint, a unit
+    SENSOR = 8  # a sensor a curve reads (inside terminal text)
 
 
 @dataclass(frozen=True, slots=True, order=True)
@@ -49,8 +55,14 @@ _PIECE_TYPES = {
 }
 
 
-def tokens(grammar: Grammar) -> list[Token]:
-    """Every token of the document, in order."""
+def sensor_spans(result: CheckResult) -> list[Span]:
+    """Where the grammar's curves read a backend's sensors, in order: what :func:`tokens` marks."""
+    return [use.span for use, _, _ in sensor_uses(result.grammar, result.facts)]
+
+
+def tokens(grammar: Grammar, sensors: Sequence[Span] = ()) -> list[Token]:
+    """Every token of the document, in order; ``sensors`` (:func:`sensor_spans`) are cut out of
+    the terminal text that holds them."""
     text = grammar.source.text
     items = sorted(
         [(r.span.start, 0, r) for r in grammar.rules] + [(a.span.start, 1, a) for a in grammar.annotations],
@@ -92,7 +104,32 @@ def tokens(grammar: Grammar) -> list[Token]:
             position = following
     scan(position, len(text), comments_only=True)
     found.sort()
-    return found
+    return _carve(found, sensors) if sensors else found
+
+
+def _carve(found: list[Token], sensors: Sequence[Span]) -> list[Token]:
+    """``found`` with each sensor's span cut out of the terminal token that holds it whole (tokens
+    must not overlap: an editor draws one type per character)."""
+    carved: list[Token] = []
+    wanted = iter(sorted(sensors, key=lambda span: span.start))
+    span = next(wanted, None)
+    for token in found:
+        end = token.start + token.length
+        while span is not None and span.start < token.start:
+            span = next(wanted, None)
+        if token.type is not TokenType.STRING:
+            carved.append(token)
+            continue
+        start = token.start
+        while span is not None and span.end <= end:
+            if span.start > start:
+                carved.append(Token(start, span.start - start, TokenType.STRING))
+            carved.append(Token(span.start, span.end - span.start, TokenType.SENSOR))
+            start = span.end
+            span = next(wanted, None)
+        if end > start:
+            carved.append(Token(start, end - start, TokenType.STRING))
+    return carved
 
 
 def _line_start(text: str, offset: int) -> int:

@@ -21,6 +21,7 @@ _KINDS = {
     CompletionKind.BACKEND: types.CompletionItemKind.Module,
     CompletionKind.VALUE: types.CompletionItemKind.Value,
     CompletionKind.SNIPPET: types.CompletionItemKind.Snippet,
+    CompletionKind.SENSOR: types.CompletionItemKind.Variable,
 }
 
 
