@@ -95,23 +95,78 @@ class OutputError(ValueError):
     """An output that cannot be written; the message names the path as the user wrote it."""
 
 
+@dataclass(frozen=True)
+class Input:
+    """Something a command reads, which none of its outputs may be: a file, or a directory and,
+    given a path below it as parts, whether that path is the directory's own (``holds``; None:
+    all of it is). ``what`` names it in messages: "the grammar", "the run directory"."""
+
+    path: Path
+    what: str
+    holds: Callable[[tuple[str, ...]], bool] | None = None
+
+
+def input_written(path: Path, inputs: Sequence[Input]) -> tuple[Input, tuple[str, ...]] | None:
+    """The input that writing ``path`` would write over or into, and where below it (``()``: it is
+    that input); None if none. Every spelling is the same path: a symlink, ``..``, a trailing
+    slash, relative or absolute, and for a file another hard link to it."""
+    for found in inputs:
+        parts = _below(path, found.path)
+        if parts is None or (parts and not os.path.isdir(found.path)):  # nothing is inside a file
+            continue
+        if not parts or found.holds is None or found.holds(parts):
+            return found, parts
+    return None
+
+
+def _below(path: Path, root: Path) -> tuple[str, ...] | None:
+    """``path`` below ``root``, as parts (``()``: the same file or directory); None if outside it."""
+    with contextlib.suppress(OSError):
+        if os.path.samefile(path, root):
+            return ()
+    real, base = os.path.realpath(path), os.path.realpath(root)
+    inside = os.path.relpath(real, base)
+    if inside == os.curdir:
+        return ()
+    if inside == os.pardir or inside.startswith(os.pardir + os.sep):
+        return None
+    return tuple(Path(inside).parts)
+
+
 def check_output(
-    path: Path, *, force: bool = False, directory: bool = False, parents: bool = False, flag: str = ""
+    path: Path,
+    *,
+    force: bool = False,
+    directory: bool = False,
+    parents: bool = False,
+    flag: str = "",
+    inputs: Sequence[Input] = (),
 ) -> None:
     """Raise :class:`OutputError` if :func:`write_output` (or, with ``directory``, making a
-    directory there and files in it) would fail or overwrite a file without ``force``.
+    directory there and files in it) would fail or overwrite a file without ``force``, or would
+    write over or into one of the command's ``inputs`` (with or without ``force``).
 
-    Checked: an existing directory where a file is meant (or a file where a directory is), an
-    existing regular file without ``force``, a missing directory above the path (unless
-    ``parents``: the command makes it), a file above it, and write permission where the file or
-    directory would be made. A device, a FIFO or a path under ``/dev`` or ``/proc``
-    (``/dev/null``, ``/dev/stdout``) is an output to write to, never to replace: ``force`` is not
-    needed. Nothing is created; as for any check before the fact, a later write can still fail
-    (a full disk), and says so then. ``flag`` (``--out``) names the option, for the remedy.
+    Checked: an input (:func:`input_written`), an existing directory where a file is meant (or a
+    file where a directory is), an existing regular file without ``force``, a missing directory
+    above the path (unless ``parents``: the command makes it), a file above it, and write
+    permission where the file or directory would be made. A device, a FIFO or a path under
+    ``/dev`` or ``/proc`` (``/dev/null``, ``/dev/stdout``) is an output to write to, never to
+    replace: ``force`` is not needed. Nothing is created; as for any check before the fact, a
+    later write can still fail (a full disk), and says so then. ``flag`` (``--out``) names the
+    option, for the remedy.
     """
     elsewhere, or_elsewhere = (
         (f"; choose another {flag}", f", or choose another {flag}") if flag else ("", "")
     )
+    touched = None if is_stream(path) else input_written(path, inputs)
+    if touched is not None:
+        found, parts = touched
+        where = "is" if not parts else f"is {parts[0]} of" if len(parts) == 1 else f"is inside {parts[0]} of"
+        named = f"{flag} {path}" if flag else str(path)
+        raise OutputError(
+            f"{named} {where} {found.what} {found.path}, which this command reads: an output never "
+            f"replaces an input{elsewhere}"
+        )
     if not directory and is_stream(path) and os.path.exists(path):  # /dev/stdout: a link into /proc
         if os.path.isdir(path):
             raise OutputError(f"cannot write {path}: is a directory{elsewhere}")

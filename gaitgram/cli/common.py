@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 import re
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from types import ModuleType
 
@@ -51,14 +52,27 @@ def require_extra(module: str, purpose: str) -> ModuleType:
 
 
 def check_output(
-    path: Path, *, force: bool, directory: bool = False, parents: bool = False, flag: str = ""
+    path: Path,
+    *,
+    force: bool,
+    directory: bool = False,
+    parents: bool = False,
+    flag: str = "",
+    inputs: Sequence[fileio.Input] = (),
 ) -> None:
-    """Refuse, before any work is done, an output that cannot be written
-    (:func:`gaitgram.fileio.check_output`): print why, naming the path as given, and exit 2."""
+    """Refuse, before any work is done, an output that cannot be written or is one of the command's
+    ``inputs`` (:func:`gaitgram.fileio.check_output`): print why, naming the path as given, and
+    exit 2."""
     try:
-        fileio.check_output(path, force=force, directory=directory, parents=parents, flag=flag)
+        fileio.check_output(path, force=force, directory=directory, parents=parents, flag=flag, inputs=inputs)
     except fileio.OutputError as error:
         raise fail(str(error)) from None
+
+
+def read_inputs(*named: tuple[Path | None, str]) -> list[fileio.Input]:
+    """The files a command reads, each with what it is ("the grammar"), as inputs no output may be
+    (:func:`check_output`); None and ``-`` (standard input) left out."""
+    return [fileio.Input(path, what) for path, what in named if path is not None and str(path) != "-"]
 
 
 def mend_outputs(*paths: Path, directory: bool = False) -> None:

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from gaitgram.cli.common import check_output, err, load_usable, write_or_exit
+from gaitgram.cli.common import check_output, err, load_usable, read_inputs, write_or_exit
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.ge import CodonMode, MappingOptions
 from gaitgram.ge.export import to_json, to_ponyge2, to_python
@@ -39,7 +39,7 @@ def command(
     """
     result = load_usable(grammar, parse_defines(defines))  # the grammar's errors come first
     if str(output) != "-":
-        check_output(output, force=force, flag="-o")
+        check_output(output, force=force, flag="-o", inputs=read_inputs((grammar, "the grammar")))
     options = MappingOptions(codons, max_wraps, max_depth)
     if target is Target.JSON:
         text = to_json(result.grammar, options)

@@ -14,6 +14,7 @@ from gaitgram.cli.common import (
     fail,
     load_usable,
     read_genome,
+    read_inputs,
     require_extra,
     write_or_exit,
 )
@@ -36,7 +37,8 @@ def command(
     require_extra("matplotlib", "plots")
     if output.suffix.lower() not in (".png", ".svg", ".pdf"):
         raise typer.BadParameter("the output must end in .png, .svg or .pdf", param_hint="--output")
-    check_output(output, force=force, flag="-o")
+    inputs = read_inputs((grammar, "the grammar"), (genome_file, "the --genome-file"))
+    check_output(output, force=force, flag="-o", inputs=inputs)
     codon_values = read_genome(genome, genome_file)
     checked = load_usable(grammar, parse_defines(defines))
     derivation = compile_mapper(checked.grammar, codons=codons, max_wraps=max_wraps).map(codon_values)

@@ -30,8 +30,10 @@ from gaitgram.cli.selection import (
     MaxWraps,
     SelectedGait,
     SelectionError,
+    gait_inputs,
     select_gait,
 )
+from gaitgram.evolution.rundir import run_input
 from gaitgram.extras import MissingExtra
 from gaitgram.pipeline import PipelineError
 
@@ -110,7 +112,10 @@ def command(
     by side, each labelled, for example a run's best beside the seed it started from.
     """
     os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is imported
-    strip = _check_outputs(output, strip, force)
+    inputs = gait_inputs(run, grammar, genome_file, config)
+    if compare not in (None, SEED) and Path(compare).is_dir():
+        inputs.append(run_input(Path(compare)))
+    strip = _check_outputs(output, strip, force, inputs)
     overrides = {"codons": codons.value if codons is not None else None, "max_wraps": max_wraps}
     try:
         chosen = select_gait(run, grammar, genome, genome_file, generation, config, overrides, defines, walk)
@@ -125,9 +130,11 @@ def command(
     err.print(f"wrote {output} ({len(animation)} frames) and {strip}; {what}")
 
 
-def _check_outputs(output: Path, strip: Path | None, force: bool) -> Path:
-    """Refuse, before any work, outputs that cannot be written, and an animation format whose extra
-    is missing; the strip's path (by default the animation's, with .png)."""
+def _check_outputs(output: Path, strip: Path | None, force: bool, inputs: list[fileio.Input]) -> Path:
+    """Refuse, before any work, outputs that cannot be written or would write over what the command
+    reads (a new file in a run directory, beside its records, is fine: ``runs/x/best.gif``), and an
+    animation format whose extra is missing; the strip's path (by default the animation's, with
+    .png)."""
     from gaitgram.backends.mujoco_horse.render import RenderError, require_writers
 
     try:
@@ -136,8 +143,8 @@ def _check_outputs(output: Path, strip: Path | None, force: bool) -> Path:
         raise fail(str(error)) from None
     strip = strip or output.with_suffix(".png")
     mend_outputs(output, strip)  # a swap cut short there is put back before they are checked
-    check_output(output, force=force, flag="-o")
-    check_output(strip, force=force, flag="--strip")
+    check_output(output, force=force, flag="-o", inputs=inputs)
+    check_output(strip, force=force, flag="--strip", inputs=inputs)
     if not fileio.is_stream(strip) and os.path.realpath(strip) == os.path.realpath(output):
         raise fail(f"--strip {strip} is the animation's own file; give the strip another name")
     return strip

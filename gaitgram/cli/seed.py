@@ -9,8 +9,9 @@ import typer
 from rich.console import Console
 
 from gaitgram import jsonio
-from gaitgram.cli.common import check_output, err, fail, write_or_exit
+from gaitgram.cli.common import check_output, err, fail, read_inputs, write_or_exit
 from gaitgram.cli.options import within
+from gaitgram.fileio import Input
 from gaitgram.language.source import describe_os_error
 from gaitgram.seed import SeedError, load_seed, read_seed_csv
 from gaitgram.seed.dlc import FPS_RANGE
@@ -18,6 +19,8 @@ from gaitgram.seed.grammars import TARGET_FREQUENCY, Style, fit_seed, write_gram
 
 #: A Fourier term's amplitude, in degrees: a full turn is the most that means anything.
 THRESHOLD = within("--threshold", 0, 360, " degrees")
+#: The files ``seed derive`` reads in a folder of tracks.
+TRACKS = (".h5", ".hdf5", ".csv")
 
 app = typer.Typer(
     rich_markup_mode=None,  # help text is plain: brackets, as in pip extras, are kept
@@ -93,7 +96,7 @@ def grammar(
 ) -> None:
     """Write a grammar from the seed in one of the paper's styles."""
     if output is not None:
-        check_output(output, force=force, flag="-o")
+        check_output(output, force=force, flag="-o", inputs=read_inputs((seed_csv, "the --seed CSV")))
     seed = _seed(seed_csv)
     command = (
         f"gaitgram seed grammar --style {style.value}"
@@ -132,13 +135,13 @@ def derive(
     from gaitgram.extras import MissingExtra
     from gaitgram.seed.dlc import DlcError, measure, read_clip, summarise
 
-    check_output(output, force=force, flag="-o")
+    check_output(output, force=force, flag="-o", inputs=[_track_input(path) for path in tracks])
     try:
         files = sorted(
             f
             for path in tracks
             for f in (path.iterdir() if path.is_dir() else [path])
-            if not path.is_dir() or f.suffix.lower() in (".h5", ".hdf5", ".csv")
+            if not path.is_dir() or f.suffix.lower() in TRACKS
         )
     except OSError as error:
         raise fail(f"cannot read {error.filename}: {describe_os_error(error)}") from None
@@ -154,4 +157,16 @@ def derive(
     err.print(
         f"{summary['clips']} clips, {summary['strides']} strides: {summary['stride_frequency_hz']:.2f} Hz, "
         f"duty factor {duty['median']:.2f}; hooves land at {lands}; wrote {output}"  # type: ignore[index]
+    )
+
+
+def _track_input(path: Path) -> Input:
+    """A track, or a folder of them whose tracks (and whatever would be read as one next time: a
+    file of a track's suffix at its top) no output may be."""
+    if not path.is_dir():
+        return Input(path, "the track")
+    return Input(
+        path,
+        "the folder of tracks",
+        lambda parts: len(parts) == 1 and Path(parts[0]).suffix.lower() in TRACKS,
     )

@@ -10,12 +10,13 @@ from typing import Annotated, Any
 
 import typer
 
-from gaitgram.cli.common import load_usable, read_genome
+from gaitgram.cli.common import load_usable, read_genome, read_inputs
 from gaitgram.cli.options import parse_defines
 from gaitgram.evolution.checkpoint import CheckpointError
 from gaitgram.evolution.config import ConfigError, load_config
-from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
+from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, run_input
 from gaitgram.evolution.selection import SelectedGait, SelectionError, from_pipeline, from_run
+from gaitgram.fileio import Input
 from gaitgram.ge import CodonMode
 from gaitgram.pipeline import Pipeline, PipelineError
 
@@ -27,6 +28,7 @@ __all__ = [
     "MaxWraps",
     "SelectedGait",
     "SelectionError",
+    "gait_inputs",
     "select_gait",
 ]
 
@@ -81,6 +83,16 @@ def select_gait(
         return from_pipeline(pipeline, codons, generation, str(grammar))
     except (ConfigError, PipelineError, RunDirectoryError, CheckpointError) as error:
         raise SelectionError(str(error)) from None
+
+
+def gait_inputs(
+    run: Path | None, grammar: Path | None, genome_file: Path | None, config: Path | None
+) -> list[Input]:
+    """What the options that choose a gait read, as inputs no output may write over or into."""
+    found = read_inputs(
+        (grammar, "the grammar"), (genome_file, "the --genome-file"), (config, "the --config")
+    )
+    return found if run is None else [run_input(run), *found]
 
 
 def _refuse_with_run(

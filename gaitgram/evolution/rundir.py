@@ -44,7 +44,7 @@ from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint, refi
 from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, differences, read_toml
 from gaitgram.evolution.engine import ENGINE_REVISION, run_context, run_files
 from gaitgram.evolution.records import run_records
-from gaitgram.fileio import OutputError, check_output, created_directory, write_atomically
+from gaitgram.fileio import Input, OutputError, check_output, created_directory, write_atomically
 from gaitgram.language import parse
 from gaitgram.language.source import SourceText, decode_source
 from gaitgram.pipeline import Genome, Individual, Pipeline, PipelineError
@@ -56,6 +56,20 @@ MANIFEST = "manifest.json"
 GRAMMAR = "grammar.gg"
 CONFIG = "config.toml"
 MANIFEST_FORMAT = 1
+
+
+def run_holds(parts: tuple[str, ...]) -> bool:
+    """Whether a path below a run directory (its parts) is the run's own, where no output may go:
+    a record at its top (JSON, TOML, the grammar, a hidden file such as its lock; the report's
+    assessments are JSON too) or anything in a run's directory (``run-NNN``). An output may go
+    anywhere else in it, as the quickstart's ``runs/quickstart/report`` and ``best.gif`` do."""
+    top = parts[0]
+    return top.startswith((".", "run-")) or Path(top).suffix in (".json", ".jsonl", ".toml", ".gg")
+
+
+def run_input(path: Path) -> Input:
+    """A run directory a command reads, as an input no output may write over or into."""
+    return Input(path, "the run directory", run_holds)
 
 
 class RunDirectoryError(ValueError):

@@ -18,6 +18,16 @@ from gaitgram.study.spec import MAX_RUNS, StudyError, is_arm_name
 
 STUDY_MANIFEST = "study.json"
 STUDY_FORMAT = 1
+#: Where a study directory keeps its arms, each a run directory.
+ARMS = "arms"
+
+
+def study_holds(parts: tuple[str, ...]) -> bool:
+    """Whether a path below a study directory (its parts) is the study's own, where no output may
+    go: ``study.json`` (any JSON or TOML at its top), a hidden file such as its lock, or anything
+    in ``arms/``. A report may go in a directory of its own inside it, as ``runs/table5/report``."""
+    top = parts[0]
+    return top == ARMS or top.startswith(".") or Path(top).suffix in (".json", ".toml")
 
 
 @dataclass(frozen=True)

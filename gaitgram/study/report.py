@@ -42,7 +42,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from gaitgram.evolution.rundir import run_input
 from gaitgram.fileio import (
+    Input,
     OutputError,
     check_output,
     interrupts_deferred,
@@ -51,13 +53,14 @@ from gaitgram.fileio import (
     write_atomically,
 )
 from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts, load_repertoire
+from gaitgram.study import escape
 from gaitgram.study.assess import assess_arms
 from gaitgram.study.figures import draw, rendered
-from gaitgram.study import escape
 from gaitgram.study.formats import text_files
 from gaitgram.study.gallery import gaits_section, render_gaits, spread_cells
 from gaitgram.study.html import html
 from gaitgram.study.kept_gaits import arm_curves_figure, load_assessed, realism_section, robustness_section
+from gaitgram.study.manifest import STUDY_MANIFEST, study_holds
 from gaitgram.study.model import (
     Gait,
     Section,
@@ -217,6 +220,25 @@ def _write(
     return report_files(report, out)
 
 
+def report_inputs(directories: Sequence[Path]) -> list[Input]:
+    """The study and run directories a report reads, as inputs no output may write over or into."""
+    return [
+        Input(d, "the study directory", study_holds) if (d / STUDY_MANIFEST).is_file() else run_input(d)
+        for d in directories
+    ]
+
+
+def check_out(out: Path, directories: Sequence[Path]) -> None:
+    """Refuse, before anything is read, an output directory that is one of the ``directories``
+    reported or lies among what one holds (its runs, its arms), however it is spelt; a directory
+    of its own inside one (``runs/table5/report``) is fine, and so is one that holds them (the
+    reports of record share ``docs/results/NAME`` with their runs)."""
+    try:
+        check_output(out, directory=True, parents=True, flag="-o", inputs=report_inputs(directories))
+    except OutputError as error:
+        raise ReportError(str(error)) from None
+
+
 def as_it_was(out: Path) -> str:
     """What a report that was not written left: ``out`` untouched, or not made."""
     return f"{out} is as it was" if os.path.lexists(out) else f"{out} was not made"
@@ -258,6 +280,7 @@ def make_report(
     (each arm's first ``runs``, if given), written to ``out``; the files written. With ``assess``,
     each run's best gait is first measured where its kept assessment is missing or stale
     (simulation; :mod:`gaitgram.study.assess`). Ctrl-C raises :class:`ReportInterrupted`."""
+    check_out(out, directories)
     try:
         arms, title = load_arms(directories, runs=runs)
         check_comparable(arms, mixed_scoring=mixed_scoring)  # before anything is made
@@ -342,6 +365,7 @@ def watch_report(
     another finishes (looked for every ``interval`` seconds), its page reloading itself, until every
     run has finished: then the report is the one :func:`make_report` writes. The files written
     last."""
+    check_out(out, directories)
     seen: tuple[tuple[str, tuple[int, ...]], ...] | None = None
     written: list[Path] = []
     shown: _Shown | None = None  # the page out holds, while it reloads itself

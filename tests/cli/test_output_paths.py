@@ -8,7 +8,6 @@ compared exactly.
 
 from __future__ import annotations
 
-import errno
 import os
 import subprocess
 import sys
@@ -157,40 +156,6 @@ def test_an_existing_output_needs_force_and_says_which(here: Path) -> None:
     assert not (here / "new.gif").exists()
 
 
-def test_a_full_disk_leaves_the_animation_and_its_strip_as_they_were(
-    here: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """``render --force`` over an older GIF and strip, the disk full once the new GIF is made: both
-    stay old (not a new animation beside an old strip), the error names the strip as written, and
-    nothing is left beside them."""
-    from gaitgram import fileio
-
-    (here / "walk.gif").write_bytes(b"old animation")
-    (here / "walk.png").write_bytes(b"old strip")
-    (here / "walk.png").chmod(0o640)
-    real = fileio.write_atomically
-
-    def full(path: Path, text: str | bytes, **options: object) -> None:
-        if path.name == "walk.png":
-            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
-        real(path, text, **options)
-
-    render = ["render", str(SINE_WALK), *GENOME, "--fps", "2", "-o", "walk.gif", "--force"]
-    with monkeypatch.context() as patch:
-        patch.setattr(fileio, "write_atomically", full)
-        done = runner.invoke(app, render)
-    assert done.exit_code == 2
-    assert done.stderr == "error: cannot write walk.png: no space left on device\n"
-    assert (here / "walk.gif").read_bytes() == b"old animation"
-    assert (here / "walk.png").read_bytes() == b"old strip"
-    assert everything_in(here) == {"plain", "folder", "walk.gif", "walk.png"}
-    done = runner.invoke(app, render)
-    assert done.exit_code == 0, done.stderr
-    assert (here / "walk.gif").read_bytes()[:6] == b"GIF89a"
-    assert (here / "walk.png").read_bytes()[:4] == b"\x89PNG"
-    assert (here / "walk.png").stat().st_mode & 0o777 == 0o640  # the file replaced keeps its mode
-
-
 @pytest.mark.skipif(IS_ROOT, reason="root may write any file")
 def test_a_read_only_grammar_is_not_rewritten(here: Path) -> None:
     """fmt and check --fix leave a read-only file alone and say so (a rename could replace it)."""
@@ -282,6 +247,129 @@ def test_a_failed_study_leaves_no_directories_behind(here: Path) -> None:
     assert done.exit_code == 2
     assert "<nope> is not defined" in done.stderr
     assert not (here / "studies").exists()
+
+
+# ---- inputs are never outputs --------------------------------------------------------------------
+
+READS = ", which this command reads: an output never replaces an input; choose another"
+
+
+def contents(directory: Path) -> dict[str, bytes]:
+    return {
+        str(p.relative_to(directory)): p.read_bytes() for p in sorted(directory.rglob("*")) if p.is_file()
+    }
+
+
+def test_a_report_is_never_written_over_or_into_what_it_reads(here: Path) -> None:
+    """``report RUN -o RUN --force`` would replace the run's summary.json: refused under every
+    spelling of the run directory (its runs too), for a study as for a run, before anything is
+    read; a directory of its own inside one is fine, and one that holds them (docs/results/NAME)."""
+    run = curve_run(here)
+    (here / "link").symlink_to("ge")
+    (here / "study" / "arms").mkdir(parents=True)
+    (here / "study" / "study.json").write_text("{}")
+    before = contents(here)
+    spellings = {
+        "ge": "is the run directory ge",
+        "ge/": "is the run directory ge",
+        "./ge": "is the run directory ge",
+        str(run): "is the run directory ge",
+        "ge/run-000/..": "is the run directory ge",
+        "link": "is the run directory ge",
+        "link/run-000": "is run-000 of the run directory ge",
+        "ge/run-000/deeper": "is inside run-000 of the run directory ge",
+    }
+    for out, why in spellings.items():
+        done = runner.invoke(app, ["report", "ge", "-o", out, "--force"])
+        assert done.exit_code == 2, (out, done.stderr)
+        assert done.stderr == f"error: -o {Path(out)} {why}{READS} -o\n", out
+    by_link = runner.invoke(app, ["report", "link/", "-o", str(run), "--force"])
+    assert by_link.stderr == f"error: -o {run} is the run directory link{READS} -o\n"
+    for out in ("study", "study/arms", "study/arms/plain/report"):
+        done = runner.invoke(app, ["report", "study", "-o", out])
+        assert done.exit_code == 2
+        assert f"error: -o {out} is " in done.stderr
+        assert f"the study directory study{READS} -o" in done.stderr
+    assert contents(here) == before
+    assert not (here / "ge" / "run-000" / "deeper").exists()
+    inside = runner.invoke(app, ["report", "ge", "-o", "ge/report"])
+    assert inside.exit_code == 0, inside.stderr
+    above = runner.invoke(app, ["report", "ge", "-o", ".", "--force"])
+    assert above.exit_code == 0, above.stderr
+    assert {k: v for k, v in contents(here).items() if k in before} == before  # no input touched
+
+
+def test_a_file_output_is_never_an_input_however_it_is_spelt(here: Path) -> None:
+    """The grammar, a genome file, a seed CSV, a track, a run's records: refused as outputs, by a
+    symlink, a hard link, ``..`` or an absolute path too, with or without --force."""
+    (here / "g.gg").write_bytes(SINE_WALK.read_bytes())
+    (here / "hard.gg").hardlink_to(here / "g.gg")
+    (here / "soft.gg").symlink_to("g.gg")
+    (here / "genome.png").write_text(GENOME[1] + "\n")  # a genome file that looks like a plot
+    (here / "seed.csv").write_bytes((GRAMMARS.parent / "seeds" / "horse_walk.csv").read_bytes())
+    (here / "tracks").mkdir()
+    (here / "tracks" / "walk.csv").write_text("a track\n")
+    run = curve_run(here)
+    cases = [
+        (["compile", "g.gg", "-o", "g.gg"], "-o g.gg", "the grammar g.gg"),
+        (["compile", "g.gg", "-o", "hard.gg"], "-o hard.gg", "the grammar g.gg"),
+        (["compile", "g.gg", "-o", "soft.gg", "-t", "ponyge2"], "-o soft.gg", "the grammar g.gg"),
+        (["compile", "g.gg", "-o", "folder/../g.gg"], "-o folder/../g.gg", "the grammar g.gg"),
+        (["compile", "g.gg", "-o", str(here / "g.gg")], f"-o {here / 'g.gg'}", "the grammar g.gg"),
+        (
+            ["plot", "g.gg", "--genome-file", "genome.png", "-o", "genome.png"],
+            "-o genome.png",
+            "the --genome-file genome.png",
+        ),
+        (
+            ["seed", "grammar", "--style", "free", "--seed", "seed.csv", "-o", "seed.csv"],
+            "-o seed.csv",
+            "the --seed CSV seed.csv",
+        ),
+        (
+            ["seed", "derive", "tracks", "-o", "tracks/walk.csv"],
+            "-o tracks/walk.csv",
+            "walk.csv of the folder of tracks tracks",
+        ),
+        (
+            ["seed", "derive", "tracks", "-o", "tracks/next.csv"],
+            "-o tracks/next.csv",
+            "next.csv of the folder of tracks tracks",
+        ),  # it would be read as a track next time
+        (
+            ["seed", "derive", "tracks/walk.csv", "-o", "tracks/walk.csv"],
+            "-o tracks/walk.csv",
+            "the track tracks/walk.csv",
+        ),
+        (
+            ["render", "--run", "ge", "-o", "ge/run-000/walk.gif"],
+            "-o ge/run-000/walk.gif",
+            "inside run-000 of the run directory ge",
+        ),
+        (
+            ["render", "--run", "ge", "-o", "walk.gif", "--strip", "ge/config.toml"],
+            "--strip ge/config.toml",
+            "config.toml of the run directory ge",
+        ),
+        (
+            ["render", "--run", "link", "-o", "walk.gif", "--strip", str(run / "summary.json")],
+            f"--strip {run / 'summary.json'}",
+            "summary.json of the run directory link",
+        ),
+    ]
+    (here / "link").symlink_to("ge")
+    before = contents(here)
+    for args, named, what in cases:
+        done = runner.invoke(app, [*args, "--force"])
+        assert done.exit_code == 2, (args, done.stderr)
+        assert done.stderr == f"error: {named} is {what}{READS} {named.split()[0]}\n", args
+    plot = ["plot", "g.gg", "--genome-file", "genome.png", "--max-wraps", "10", "-o", "curves.png"]
+    plotted = runner.invoke(app, plot)
+    assert plotted.exit_code == 0, plotted.stderr  # beside its inputs is fine
+    assert contents(here) == {**before, "curves.png": (here / "curves.png").read_bytes()}
+    beside = runner.invoke(app, ["render", "--run", "ge", "-o", "ge/best.gif"])
+    assert "which this command reads" not in beside.stderr  # a new file beside a run's records: fine
+    assert "render draws the mujoco-horse backend" in beside.stderr  # (a curve-match run has no horse)
 
 
 # ---- --walk on a backend that judges no walks -----------------------------------------------------

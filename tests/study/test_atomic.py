@@ -453,15 +453,18 @@ RENDER += ["--max-wraps", "10", "--fps", "2"]
 
 
 def test_render_replaces_its_animation_and_strip_together(tmp_path: Path) -> None:
-    """``render --force`` over an older GIF and strip, in a process of its own: a Ctrl-C while they
-    are written waits until both are new; a kill -9 between the two renames leaves a new GIF beside
-    the old strip, which the next render puts back first, saying so, before it checks its outputs."""
+    """``render --force`` over an older GIF and strip, in a process of its own: a full disk while the
+    strip is written leaves both old (not a new animation beside an old strip); a Ctrl-C then waits
+    until both are new, the strip keeping its mode; a kill -9 between the two renames leaves a new
+    GIF beside the old strip, which the next render puts back first, saying so, before it checks
+    its outputs."""
 
     def cut(name: str, limit: int | None, how: str = "kill") -> tuple[Path, Cut]:
         root = tmp_path / name
         root.mkdir()
         (root / "walk.gif").write_bytes(b"old animation")
         (root / "walk.png").write_bytes(b"old strip")
+        (root / "walk.png").chmod(0o640)
         return root, cut_at(root, [*RENDER, "-o", str(root / "walk.gif"), "--force"], limit, how, fresh=True)
 
     steps = cut("reference", None)[1].steps
@@ -470,6 +473,13 @@ def test_render_replaces_its_animation_and_strip_together(tmp_path: Path) -> Non
     moved = [i for i in moved if not steps[i - 1].endswith(".tmp")]
     assert len(moved) == 2, steps
 
+    root, full = cut("full", made, "full")
+    assert full.code == 2, full.stderr
+    assert full.stderr.splitlines()[-1] == f"error: cannot write {root / 'walk.png'}: no space left on device"
+    assert (root / "walk.gif").read_bytes() == b"old animation"
+    assert (root / "walk.png").read_bytes() == b"old strip"
+    no_temporaries(root)
+
     root, stopped = cut("ctrl-c", made, "ctrl-c")
     assert stopped.code == 130, stopped.stderr
     assert stopped.stderr.splitlines()[-1] == (
@@ -477,6 +487,7 @@ def test_render_replaces_its_animation_and_strip_together(tmp_path: Path) -> Non
     )
     assert (root / "walk.gif").read_bytes()[:6] == b"GIF89a"
     assert (root / "walk.png").read_bytes()[:4] == b"\x89PNG"
+    assert (root / "walk.png").stat().st_mode & 0o777 == 0o640  # the file replaced keeps its mode
     no_temporaries(root)
 
     root, killed = cut("killed", moved[1])
