@@ -10,7 +10,7 @@ terminal: a name is read where a terminal spells it whole, as every bundled gram
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -21,9 +21,19 @@ from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backen
 from gaitgram.backends.sensors import Sensor, SensorCatalogue
 from gaitgram.language.model import FREQUENCY, Grammar, Rule, Terminal
 from gaitgram.language.source import Span
-from gaitgram.motion.names import builtin, words
+from gaitgram.motion.names import builtin, reads, words
 
-__all__ = ["NameUse", "SensorScope", "motion_rules", "name_uses", "sensor_uses", "sensors_lacking"]
+__all__ = [
+    "ClosedLoops",
+    "LoopTerms",
+    "NameUse",
+    "SensorScope",
+    "closed_loops",
+    "motion_rules",
+    "name_uses",
+    "sensor_uses",
+    "sensors_lacking",
+]
 
 
 @dataclass(frozen=True, slots=True)
@@ -192,3 +202,118 @@ def sensors_lacking(grammar: Grammar, facts: GrammarFacts, sensors: SensorCatalo
         if scope.offered_by(use.name):
             lacking.append(use.name)
     return lacking
+
+
+@dataclass(frozen=True, slots=True)
+class LoopTerms:
+    """A curve that reads sensors, split where that is simple (a sum): the terms that read no
+    sensor (what it plays open loop), those that read only a periodic sensor (a limb's oscillator
+    ``phase``: a curve of the cycle that touchdown may restart) and those that read the others
+    (its feedback)."""
+
+    joint: str
+    sensors: tuple[str, ...]  # in the order the curve first reads them
+    #: The sum of its terms that read no sensor; None when every term reads one.
+    open_loop: str | None
+    #: Its terms that read periodic sensors only, each with the sign it is added with.
+    phased: tuple[str, ...]
+    #: Its terms that read the other sensors, each with its sign (a curve that is no sum is one
+    #: term: ``sin(2*PI*t+pitch)``).
+    feedback: tuple[str, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class ClosedLoops:
+    """The curves of a phenotype that read sensors: what ``gaitgram map`` and ``plot`` say of it."""
+
+    curves: tuple[LoopTerms, ...]
+
+    @property
+    def sensors(self) -> tuple[str, ...]:
+        return tuple(dict.fromkeys(name for curve in self.curves for name in curve.sensors))
+
+    def summary(self) -> dict[str, object]:
+        """The JSON-ready record ``gaitgram map --json`` prints as ``closed_loop``."""
+        return {
+            "sensors": list(self.sensors),
+            "note": self.note(),
+            "curves": {
+                c.joint: {
+                    "sensors": list(c.sensors),
+                    "open_loop": c.open_loop,
+                    "phased": list(c.phased),
+                    "feedback": list(c.feedback),
+                }
+                for c in self.curves
+            },
+        }
+
+    def lines(self) -> list[str]:
+        """The note, then each curve's open-loop part, phase terms and feedback terms, for people."""
+        found = [self.note()]
+        for curve in self.curves:
+            parts = [f"open loop {curve.open_loop or 'none (every term reads a sensor)'}"]
+            if curve.phased:
+                parts.append(f"at the limb's phase {' '.join(curve.phased)}")
+            if curve.feedback:
+                parts.append(f"feedback {' '.join(curve.feedback)}")
+            found.append(f"  {curve.joint}: {'; '.join(parts)}")
+        return found
+
+    def note(self) -> str:
+        """One line for people: which curves read which sensors, and what that means for a plot."""
+        joints = [curve.joint for curve in self.curves]
+        shown = ", ".join(joints[:4]) + (f" and {len(joints) - 4} more" if len(joints) > 4 else "")
+        one = len(joints) == 1
+        names = f"sensor{'' if len(self.sensors) == 1 else 's'} {', '.join(self.sensors)}"
+        curves = "its curve" if one else "their curves"
+        return (
+            f"closed loop: {shown} read{'s' if one else ''} the {names}, so {curves} cannot be plotted "
+            "as a fixed curve; a plot shows the nominal curve, every sensor at rest"
+        )
+
+
+def closed_loops(grammar: Grammar, facts: GrammarFacts, joints: Mapping[str, str]) -> ClosedLoops | None:
+    """The curves of a phenotype (``joints``: each joint's text) that read the grammar's sensors,
+    split into open-loop part, phase terms and feedback terms; None for an open-loop phenotype."""
+    sensors = {use.name: sensor.periodic for use, sensor, _ in sensor_uses(grammar, facts)}
+    if not sensors:
+        return None
+    curves = []
+    for joint, text in joints.items():
+        read = reads(text, sensors)
+        if read:
+            curves.append(LoopTerms(joint, tuple(read), *_terms(text, sensors)))
+    return ClosedLoops(tuple(curves)) if curves else None
+
+
+def _terms(text: str, sensors: Mapping[str, bool]) -> tuple[str | None, tuple[str, ...], tuple[str, ...]]:
+    """The sum of the terms of ``text`` that read no sensor, the terms that read only periodic
+    ones (``sensors``: each name's ``periodic``), and the terms that read others."""
+    from gaitgram.motion.parser import parse  # numpy: only for a phenotype that reads sensors
+    from gaitgram.motion.tree import Binary, Name, postorder
+
+    syntax = parse(text)
+    if not hasattr(syntax, "tree"):  # not an expression: nothing to split
+        return None, (), (text,)
+    plain: list[str] = []
+    phased: list[str] = []
+    feedback: list[str] = []
+    work = [(syntax.tree(), "+")]
+    while work:
+        node, sign = work.pop()
+        if isinstance(node, Binary) and node.op in "+-":
+            work.append((node.right, sign if node.op == "+" else "-" if sign == "+" else "+"))
+            work.append((node.left, sign))
+            continue
+        read = {n.name for n in postorder(node) if isinstance(n, Name) and n.name in sensors}
+        kind = feedback if any(not sensors[r] for r in read) else phased if read else plain
+        kind.append(_signed(sign, text[node.start : node.end]))
+    return "".join(plain).removeprefix("+") or None, tuple(phased), tuple(feedback)
+
+
+def _signed(sign: str, term: str) -> str:
+    """``term`` added (``+``) or subtracted (``-``), its own leading minus folded in."""
+    if term.startswith("-"):
+        return term if sign == "+" else "+" + term[1:]
+    return sign + term

@@ -1,4 +1,5 @@
-"""``gaitgram map``: one genome through a grammar, with its derivation tree."""
+"""``gaitgram map``: one genome through a grammar, with its derivation tree; a closed loop's curves
+split into their open-loop part and their feedback terms."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import typer
 from rich.console import Console
 
 from gaitgram import jsonio
+from gaitgram.analysis.motion_text import closed_loops
 from gaitgram.cli.common import err, fail, load_usable, read_genome
 from gaitgram.cli.options import Defines, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper, python_filter
@@ -57,8 +59,11 @@ def command(
             raise fail(str(missing)) from None
         except TreeTooLarge as refusal:
             _refuse_tree(refusal, drawn=tree is not None)
+    loops = closed_loops(result.grammar, result.facts, derivation.joints) if derivation.valid else None
     if as_json:
         record = derivation.summary()
+        if loops is not None:
+            record["closed_loop"] = loops.summary()
         if rendered is not None:
             record["tree"] = rendered
         typer.echo(jsonio.dumps(record))
@@ -74,6 +79,8 @@ def command(
         )
         for joint, text in derivation.joints.items():
             out.print(f"{joint}: {text}", markup=False)
+        for line in loops.lines() if loops is not None else ():
+            err.print(line)
         if rendered is not None:
             typer.echo(rendered, nl=False)
     if not derivation.valid:

@@ -1,4 +1,4 @@
-"""``gaitgram plot``: the joint-angle curves of a genome, beside the seed."""
+"""``gaitgram plot``: the joint-angle curves of a genome, beside the seed (a closed loop's nominal)."""
 
 from __future__ import annotations
 
@@ -44,14 +44,21 @@ def command(
     derivation = compile_mapper(checked.grammar, codons=codons, max_wraps=max_wraps).map(codon_values)
     if not derivation.valid:
         raise fail(f"the genome is invalid ({derivation.reason}); nothing to plot", 1)
+    from gaitgram.analysis.motion_text import closed_loops
+    from gaitgram.backends.registry import get_backend
     from gaitgram.motion.plot import curves_figure
+    from gaitgram.pipeline import DEFAULT_BACKEND, sensors_of
     from gaitgram.seed import load_seed
 
     joints = [j.joint for j in checked.grammar.joints] or list(derivation.joints)
+    loops = closed_loops(checked.grammar, checked.facts, derivation.joints)
+    sensors = sensors_of(get_backend(checked.grammar.backend or DEFAULT_BACKEND)) if loops else None
     figure = curves_figure(
-        joints, derivation.joints, load_seed().angles if seed else None, title=grammar.name
+        joints, derivation.joints, load_seed().angles if seed else None, title=grammar.name, sensors=sensors
     )
     image = io.BytesIO()
     figure.savefig(image, format=output.suffix.lower()[1:], dpi=110)
     write_or_exit(output, image.getvalue())
+    if loops is not None:
+        err.print(loops.note())
     err.print(f"wrote {output}")

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterator
+from collections.abc import Collection, Iterator
 
 __all__ = [
     "CONSTANTS",
@@ -23,6 +23,7 @@ __all__ = [
     "VARIABLE",
     "WHITESPACE",
     "builtin",
+    "reads",
     "words",
 ]
 
@@ -67,3 +68,8 @@ def words(text: str) -> Iterator[tuple[str, int, int, bool]]:
 def builtin(name: str) -> bool:
     """Whether the language itself knows ``name``: the phase variable, a constant or a function."""
     return name == VARIABLE or name in CONSTANTS or name in FUNCTION_DOCS
+
+
+def reads(text: str, names: Collection[str]) -> list[str]:
+    """Which of ``names`` (a backend's sensors) ``text`` reads, in the order it first reads them."""
+    return list(dict.fromkeys(name for name, _, _, called in words(text) if name in names and not called))
