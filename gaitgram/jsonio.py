@@ -4,7 +4,8 @@ Python's :func:`json.dumps` writes non-finite floats as bare ``NaN`` and
 ``Infinity``, which strict parsers (``jq``, browsers, most languages) reject. A
 non-finite number in gaitgram's output means "no value" (an average over no
 viable gait, say), so it is written as ``null``; ``allow_nan=False`` then
-guarantees that nothing else slipped through.
+guarantees that nothing else slipped through. Read back (:func:`loads`), a
+non-finite number is therefore an edit or damage, refused wherever it is.
 """
 
 from __future__ import annotations
@@ -29,3 +30,49 @@ def finite_or_none(value: Any) -> Any:
 def dumps(value: Any, *, indent: int | None = None, ensure_ascii: bool = False) -> str:
     """Strict JSON text of ``value``; non-finite floats become ``null``."""
     return json.dumps(finite_or_none(value), indent=indent, ensure_ascii=ensure_ascii, allow_nan=False)
+
+
+class NonFinite(ValueError):
+    """A number in a JSON text that is not finite; the message says where (``a.b[2].c``) and what."""
+
+
+def loads(text: str | bytes) -> Any:
+    """JSON as gaitgram writes it, read back: ``NaN``, ``Infinity``, ``-Infinity`` and a number too
+    large for a float (which :func:`json.loads` reads as infinity) are :class:`NonFinite`, naming
+    the first one's key. Every reader of gaitgram's files refuses them alike, never reading one
+    as "no value" (that is ``null``)."""
+    found: list[_Bad] = []
+
+    def bad(literal: str) -> _Bad:
+        found.append(_Bad(literal))
+        return found[-1]
+
+    def number(literal: str) -> float | _Bad:
+        value = float(literal)
+        return value if math.isfinite(value) else bad(literal)
+
+    data = json.loads(text, parse_constant=bad, parse_float=number)
+    if found:
+        where, literal = _first_bad(data, "")
+        raise NonFinite(
+            f"{where}: {literal} is not a finite number" if where else f"{literal} is not a finite number"
+        )
+    return data
+
+
+class _Bad:
+    def __init__(self, literal: str) -> None:
+        self.literal = literal
+
+
+def _first_bad(value: Any, where: str) -> tuple[str, str]:
+    if isinstance(value, _Bad):
+        return where, value.literal
+    items = value.items() if isinstance(value, dict) else enumerate(value) if isinstance(value, list) else ()
+    for key, item in items:
+        inner = f"{where}[{key}]" if isinstance(key, int) else f"{where}.{key}" if where else str(key)
+        if isinstance(item, dict | list | _Bad):
+            found = _first_bad(item, inner)
+            if found[1]:
+                return found
+    return "", ""

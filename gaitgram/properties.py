@@ -3,6 +3,10 @@
 A property is a function ``(derivation, context) -> None`` that raises
 :class:`PropertyFailed` with a reason. Users add their own in a Python file of
 functions named ``property_*`` with the same signature (``gaitgram test --properties FILE``).
+
+A curve that reads the backend's sensors (a closed loop) compiles with them, and its *nominal*
+curve (every sensor at rest, as runs and plots sample it) is the one checked for finiteness and
+limits: what it does under other readings depends on the body.
 """
 
 from __future__ import annotations
@@ -13,11 +17,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gaitgram.backends.registry import get_backend
 from gaitgram.ge import Derivation
 from gaitgram.ge.mapper import Mapper
 from gaitgram.language.model import FREQUENCY, Grammar
 from gaitgram.motion.expression import Motion, compile_motion, phase_grid
-from gaitgram.motion.gait import cycle_frequency
+from gaitgram.motion.gait import Sensors, cycle_frequency, sensed_curve
+from gaitgram.pipeline import DEFAULT_BACKEND, sensors_of
 
 
 class PropertyFailed(AssertionError):
@@ -30,6 +36,27 @@ class Context:
     mapper: Mapper
     max_depth: int
     samples: int = 256
+    #: The backend's sensors, which curves may read (None: it senses nothing).
+    sensors: Sensors | None = None
+
+    @classmethod
+    def of(cls, grammar: Grammar, mapper: Mapper, max_depth: int) -> Context:
+        """The context of a checked grammar, with its backend's sensors."""
+        return cls(
+            grammar, mapper, max_depth, sensors=sensors_of(get_backend(grammar.backend or DEFAULT_BACKEND))
+        )
+
+    def motion(self, text: str) -> Motion | object:
+        """``text`` compiled, reading the backend's sensors."""
+        return compile_motion(text, self.sensors.names if self.sensors is not None else frozenset())
+
+    def curve(self, motion: Motion) -> tuple[np.ndarray | None, str | None]:
+        """Its values over one cycle (a closed loop's nominal curve), or why it has none."""
+        if motion.sensors and self.sensors is not None:
+            values, _, problem, detail = sensed_curve(motion.text, self.samples, self.sensors)
+            return (None, detail) if problem is not None else (values, None)
+        curve = motion.evaluate(phase_grid(self.samples))
+        return (curve.values, None) if curve.ok else (None, str(curve.error))
 
 
 Property = Callable[[Derivation, Context], None]
@@ -58,41 +85,39 @@ def within_max_depth(derivation: Derivation, context: Context) -> None:
 def joints_compile(derivation: Derivation, context: Context) -> None:
     """Every @joint phenotype is a motion expression."""
     for joint, text in derivation.joints.items():
-        motion = compile_motion(text)
+        motion = context.motion(text)
         if not isinstance(motion, Motion):
             raise PropertyFailed(f"{joint}: {motion}")
 
 
 def curves_finite(derivation: Derivation, context: Context) -> None:
     """Every joint curve is finite over the whole cycle (no division by zero, no overflow)."""
-    phases = phase_grid(context.samples)
     for joint, text in derivation.joints.items():
-        motion = compile_motion(text)
+        motion = context.motion(text)
         if isinstance(motion, Motion):
-            curve = motion.evaluate(phases)
-            if not curve.ok:
-                raise PropertyFailed(f"{joint}: {curve.error}")
+            _, problem = context.curve(motion)
+            if problem is not None:
+                raise PropertyFailed(f"{joint}: {problem}")
 
 
 def curves_within_limits(derivation: Derivation, context: Context) -> None:
     """Curves stay within their @joint limits; the share of the cycle outside is reported."""
-    phases = phase_grid(context.samples)
     for decl in context.grammar.joints:
         text = derivation.joints.get(decl.joint)
         if text is None or decl.limits is None:
             continue
-        motion = compile_motion(text)
+        motion = context.motion(text)
         if not isinstance(motion, Motion):
             continue
-        curve = motion.evaluate(phases)
-        if not curve.ok:
+        values, _ = context.curve(motion)
+        if values is None:
             continue
         low, high = decl.limits
-        outside = (curve.values < low - 1e-9) | (curve.values > high + 1e-9)
+        outside = (values < low - 1e-9) | (values > high + 1e-9)
         if outside.any():
             raise PropertyFailed(
                 f"{decl.joint}: {outside.mean():.0%} of the cycle outside {low:g}..{high:g} "
-                f"(from {np.nanmin(curve.values):.3g} to {np.nanmax(curve.values):.3g})"
+                f"(from {np.nanmin(values):.3g} to {np.nanmax(values):.3g})"
             )
 
 

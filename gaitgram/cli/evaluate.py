@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -13,7 +12,7 @@ from rich.table import Table
 from gaitgram import jsonio
 from gaitgram.backends.api import Evaluation
 from gaitgram.cli.common import err, fail
-from gaitgram.cli.options import Defines, Walk
+from gaitgram.cli.options import Defines, Settings, Walk, parse_settings
 from gaitgram.cli.selection import (
     Codons,
     GenomeCodons,
@@ -53,10 +52,6 @@ _Horizon = Annotated[
         "stay one for longer?",
     ),
 ]
-_Settings = Annotated[
-    list[str] | None,
-    typer.Option("--set", metavar="KEY=JSON", help="A backend setting, for example froude=0.5."),
-]
 
 
 def command(
@@ -70,7 +65,7 @@ def command(
     codons: Codons = None,
     max_wraps: MaxWraps = None,
     max_depth: _MaxDepth = None,
-    setting: _Settings = None,
+    setting: Settings = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     walk: Walk = False,
     defines: Defines = None,
@@ -86,7 +81,7 @@ def command(
         "codons": codons.value if codons is not None else None,
         "max_wraps": max_wraps,
         "max_depth": max_depth,
-        "backend_settings": _settings(setting) or None,
+        "backend_settings": parse_settings(setting) or None,
     }
     try:
         chosen = select_gait(run, grammar, genome, genome_file, generation, config, overrides, defines, walk)
@@ -172,16 +167,3 @@ def _cycles_table(cycles: dict[str, tuple[float, ...]] | Any) -> Table:
     for name, values in cycles.items():
         table.add_row(name, *(f"{v:.4g}" for v in values))
     return table
-
-
-def _settings(items: list[str] | None) -> dict[str, object]:
-    settings: dict[str, object] = {}
-    for item in items or []:
-        key, sep, raw = item.partition("=")
-        if not sep or not key.strip():
-            raise typer.BadParameter(f"{item!r} is not KEY=VALUE", param_hint="--set")
-        try:
-            settings[key.strip()] = json.loads(raw)
-        except json.JSONDecodeError:
-            settings[key.strip()] = raw
-    return settings

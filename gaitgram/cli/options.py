@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Callable
 from typing import Annotated
@@ -28,6 +29,28 @@ Walk = Annotated[
         "above every walk.",
     ),
 ]
+
+
+#: ``evaluate``/``render``: a backend setting over the configuration's, as JSON or else text.
+Settings = Annotated[
+    list[str] | None,
+    typer.Option("--set", metavar="KEY=JSON", help="A backend setting, for example froude=0.5."),
+]
+
+
+def parse_settings(items: list[str] | None) -> dict[str, object]:
+    """``["froude=0.5", "body=pony"]`` -> ``{"froude": 0.5, "body": "pony"}`` (a value that is not
+    JSON is text), with a usage error (exit 2) naming the bad one."""
+    settings: dict[str, object] = {}
+    for item in items or []:
+        key, sep, raw = item.partition("=")
+        if not sep or not key.strip():
+            raise typer.BadParameter(f"{item!r} is not KEY=VALUE", param_hint="--set")
+        try:
+            settings[key.strip()] = json.loads(raw)
+        except json.JSONDecodeError:
+            settings[key.strip()] = raw
+    return settings
 
 
 def parse_defines(raw: list[str] | None) -> dict[str, int]:

@@ -21,7 +21,7 @@ from gaitgram.cli.common import (
     mend_outputs,
     write_all_or_exit,
 )
-from gaitgram.cli.options import Defines, Walk
+from gaitgram.cli.options import Defines, Settings, Walk, parse_settings
 from gaitgram.cli.selection import (
     Codons,
     GenomeCodons,
@@ -103,6 +103,7 @@ def command(
     force: Annotated[bool, typer.Option("--force", help="Overwrite existing output files.")] = False,
     walk: Walk = False,
     defines: Defines = None,
+    setting: Settings = None,
 ) -> None:
     """Render a gait on the mujoco-horse backend offscreen (MUJOCO_GL=egl by default).
 
@@ -116,7 +117,11 @@ def command(
     if compare not in (None, SEED) and Path(compare).is_dir():
         inputs.append(run_input(Path(compare)))
     strip = _check_outputs(output, strip, force, inputs)
-    overrides = {"codons": codons.value if codons is not None else None, "max_wraps": max_wraps}
+    overrides = {
+        "codons": codons.value if codons is not None else None,
+        "max_wraps": max_wraps,
+        "backend_settings": parse_settings(setting) or None,
+    }
     try:
         chosen = select_gait(run, grammar, genome, genome_file, generation, config, overrides, defines, walk)
         shown, beside = _gaits(chosen, compare)

@@ -51,7 +51,12 @@ _Watch = Annotated[
     ),
 ]
 _Interval = Annotated[
-    float, typer.Option(min=1.0, help="With --watch: seconds between looks for newly finished runs.")
+    float | None,
+    typer.Option(
+        min=1.0,
+        help="With --watch: seconds between looks for newly finished runs [default: 30].",
+        show_default=False,
+    ),
 ]
 _Runs = Annotated[
     int | None,
@@ -86,7 +91,7 @@ def command(
     gaits: _Gaits = 0,
     assess: _Assess = False,
     watch: _Watch = False,
-    interval: _Interval = 30.0,
+    interval: _Interval = None,
     runs: _Runs = None,
     mixed_scoring: _MixedScoring = False,
     cell: _Cell = None,
@@ -105,6 +110,8 @@ def command(
     a study still running is reported over its finished runs, again as more finish; with --runs N,
     over each arm's first N runs.
     """
+    if interval is not None and not watch:
+        raise fail("--interval is how often --watch looks for finished runs; add --watch, or drop --interval")
     require_extra("matplotlib", "reports")
     require_extra("scipy", "reports")
     chosen = [_cell(text) for text in cell or []]
@@ -113,7 +120,8 @@ def command(
         require_extra("PIL", "animations")
     check_output(out, force=False, directory=True, parents=True, flag="-o")  # before reading the runs
     mend_outputs(out, directory=True)  # a report cut short there is put back first
-    report = functools.partial(watch_report, interval=interval) if watch else make_report
+    every = {} if interval is None else {"interval": interval}
+    report = functools.partial(watch_report, **every) if watch else make_report
     try:
         written = report(
             directories,

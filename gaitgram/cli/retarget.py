@@ -66,6 +66,9 @@ def command(
         raise fail("--each-run plays each run's best gait; drop --walk or --each-run")
     if runs is not None and not each_run:
         raise fail("--runs chooses the runs --each-run plays; add --each-run, or drop --runs")
+    twice = next((s for i, s in enumerate(scaling or []) if s in (scaling or [])[:i]), None)
+    if twice is not None:
+        raise fail(f"--scaling {twice} is given twice; each scaling is played once, give it once")
     try:
         if each_run:
             directory = RunDirectory.open(run)

@@ -47,7 +47,7 @@ def command(
     """
     checked = load_usable(grammar, parse_defines(defines))
     mapper = compile_mapper(checked.grammar, codons=codons, max_wraps=0)
-    context = Context(checked.grammar, mapper, max_depth)
+    context = Context.of(checked.grammar, mapper, max_depth)
     chosen: dict[str, Property] = dict(BUILT_IN)
     if properties is not None:
         chosen.update(_user_properties(properties))

@@ -91,7 +91,12 @@ def load_checkpoint(
     ``fingerprint`` may name several: the run's, and what the same run was fingerprinted as before
     (``RunDirectory.fingerprints``)."""
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = jsonio.loads(path.read_text(encoding="utf-8"))
+    except jsonio.NonFinite as error:
+        raise CheckpointError(
+            f"{path}: corrupt checkpoint: {error}; it cannot be resumed (restore it from a backup, or "
+            "start the run again)"
+        ) from None
     except (OSError, UnicodeDecodeError) as error:
         raise CheckpointError(f"{path}: cannot read the checkpoint: {error}") from None
     except json.JSONDecodeError as error:

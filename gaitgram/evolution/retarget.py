@@ -42,17 +42,10 @@ def retarget(
 ) -> Retargeted:
     """Play ``genomes``, evolved through ``pipeline``, on ``body``, as they would be scored in
     ``generation``; raises :class:`RetargetError` for a backend without bodies, an unknown body
-    or scaling."""
+    or scaling (:func:`check_playing`)."""
+    check_playing(pipeline, body, [scaling])
     spec = pipeline.spec
-    if spec.retarget is None or not spec.bodies:
-        raise RetargetError(f"backend {pipeline.backend!r} has one body: its gaits cannot be retargeted")
-    if body not in spec.bodies:
-        close = difflib.get_close_matches(body, list(spec.bodies), n=1)
-        hint = f"did you mean {close[0]!r}?" if close else f"its bodies: {', '.join(spec.bodies)}"
-        raise RetargetError(f"backend {pipeline.backend!r} has no body {body!r}; {hint}")
-    if scaling not in spec.retarget_scalings:
-        known = ", ".join(spec.retarget_scalings)
-        raise RetargetError(f"no frequency scaling {scaling!r}; {pipeline.backend!r} knows {known}")
+    assert spec.retarget is not None
     motion = pipeline.motion(pipeline.map(genomes), generation)
     try:
         settings, played = spec.retarget(pipeline.config.backend_settings, motion, body, scaling)
@@ -74,6 +67,22 @@ def retarget(
         _hertz(motion, len(genomes)),
         tuple(individuals),
     )
+
+
+def check_playing(pipeline: Pipeline, body: str, scalings: Sequence[str]) -> None:
+    """Raise :class:`RetargetError` unless ``pipeline``'s backend has bodies, ``body`` among them,
+    and knows each of ``scalings``: before anything is played, whatever is asked."""
+    spec = pipeline.spec
+    if spec.retarget is None or not spec.bodies:
+        raise RetargetError(f"backend {pipeline.backend!r} has one body: its gaits cannot be retargeted")
+    if body not in spec.bodies:
+        close = difflib.get_close_matches(body, list(spec.bodies), n=1)
+        hint = f"did you mean {close[0]!r}?" if close else f"its bodies: {', '.join(spec.bodies)}"
+        raise RetargetError(f"backend {pipeline.backend!r} has no body {body!r}; {hint}")
+    for scaling in scalings:
+        if scaling not in spec.retarget_scalings:
+            known = ", ".join(spec.retarget_scalings)
+            raise RetargetError(f"no frequency scaling {scaling!r}; {pipeline.backend!r} knows {known}")
 
 
 def _hertz(motion: MotionBatch, count: int) -> tuple[float | None, ...]:
@@ -100,6 +109,7 @@ def retarget_runs(
     """Every finished run's best gait of ``directory`` (of its first ``runs`` alone, if given: an arm
     that has grown since) played on ``body`` under each of ``scalings`` (the runs' bests played
     together, one batch per scaling); raises :class:`RetargetError`."""
+    check_playing(directory.pipeline, body, scalings)
     planned = directory.config.runs
     if runs is not None and not 1 <= runs <= planned:
         raise RetargetError(

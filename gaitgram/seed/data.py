@@ -149,8 +149,13 @@ def read_seed_csv(path: Path) -> SeedCurves:
         except ValueError:
             bad = next(cell for cell in row if not _is_float(cell))
             raise SeedError(f"{path}:{number}: {bad!r} is not a number") from None
-        if not all(math.isfinite(v) for v in parsed):
-            raise SeedError(f"{path}:{number}: values must be finite")
+        infinite = [i for i, v in enumerate(parsed) if not math.isfinite(v)]
+        if infinite:
+            at = infinite[0]
+            raise SeedError(
+                f"{path}:{number}: {header[at]}: {row[at].strip()!r} is not a finite number; a seed's "
+                "phases and angles are numbers"
+            )
         values.append(parsed)
     if len(values) < 4:
         raise SeedError(f"{path}: {len(values)} rows; a stride needs at least 4 samples")

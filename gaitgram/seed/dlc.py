@@ -289,31 +289,50 @@ def _angle(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64
     return np.degrees((turn + np.pi) % (2 * np.pi) - np.pi)
 
 
-def _world(clip: Clip) -> dict[str, NDArray[np.float64]] | None:
-    """Every landmark with y up and x forward (the horse walks either way past the camera); None
-    if the withers, which give the body's speed and direction, are tracked in under two frames."""
-    points = {}
-    for keypoint in KEYPOINTS:
-        x, y = clip.point(keypoint).T
-        points[keypoint] = np.column_stack([_filled(x), -_filled(y)])
+def _world(clip: Clip) -> tuple[dict[str, NDArray[np.float64]], dict[str, NDArray[np.float64]]] | None:
+    """Every landmark with y up and x forward (the horse walks either way past the camera), with
+    its gaps interpolated, and as tracked (NaN where missing); None if the withers, which give the
+    body's speed and direction, are tracked in under two frames. (Footfalls are read on these
+    paths: a hoof lost at the frame it lands may land a frame early or late, which no frame
+    says.)"""
+    tracked = {k: clip.point(k) * np.array([1.0, -1.0]) for k in KEYPOINTS}
+    points = {k: _filled_path(xy) for k, xy in tracked.items()}
     if np.isnan(points["Withers"]).any():  # filled: either complete or never tracked
         return None
     forward = np.mean(np.diff(points["Withers"][:, 0]))
     if forward < 0:
-        for value in points.values():
+        for value in (*points.values(), *tracked.values()):
             value[:, 0] *= -1
-    return points
+    return points, tracked
 
 
-def _curves(points: dict[str, NDArray[np.float64]]) -> dict[str, dict[str, NDArray[np.float64]]]:
-    """Per hoof, the curves read on its limb (and the head-neck angle, read on every limb)."""
+def _filled_path(xy: NDArray[np.float64]) -> NDArray[np.float64]:
+    return np.column_stack([_filled(xy[:, 0]), _filled(xy[:, 1])])
+
+
+def _segment(tracked: dict[str, NDArray[np.float64]], start: str, end: str) -> NDArray[np.float64]:
+    """The vector from landmark ``start`` to ``end`` in each frame, interpolated over the frames
+    where either is missing. A segment of a limb keeps its length and turns with the limb: over a
+    gap it stays what it was, where a lone landmark moved on its own would cut the corner its
+    path turns (a hoof stops at touchdown)."""
+    return _filled_path(tracked[end] - tracked[start])
+
+
+def _curves(tracked: dict[str, NDArray[np.float64]]) -> dict[str, dict[str, NDArray[np.float64]]]:
+    """Per hoof, the curves read on its limb (and the head-neck angle, read on every limb), from
+    the landmarks as tracked: angles between segments (:func:`_segment`), so that an angle that
+    holds steady holds over a gap."""
+
+    def segment(start: str, end: str) -> NDArray[np.float64]:
+        return _segment(tracked, start, end)
+
     down = np.array([[0.0, -1.0]])
-    head = _angle(points["Nostril"] - points["Poll"], points["Withers"] - points["Poll"])
+    head = _angle(segment("Poll", "Nostril"), segment("Poll", "Withers"))
     found = {}
     for hoof, (fetlock, upper, body) in HOOVES.items():
         end = "fore" if "Front" in hoof else "hind"
-        cannon, pastern = points[fetlock] - points[upper], points[hoof] - points[fetlock]
-        limb = points[upper] - points[body]
+        cannon, pastern = segment(upper, fetlock), segment(fetlock, hoof)
+        limb = segment(body, upper)
         found[hoof] = {
             f"fetlock_{end}": _angle(cannon, pastern),
             f"protraction_{end}": -_angle(np.repeat(down, len(limb), axis=0), limb),
@@ -351,14 +370,15 @@ def measure(clips: Iterable[Clip]) -> Kinematics:
     found = Kinematics()
     for clip in clips:
         found.read.append(clip.name)
-        points = _world(clip)
-        if points is None:
+        world = _world(clip)
+        if world is None:
             continue  # the withers never tracked: no walk to read
+        points, tracked = world
         body_speed = float(np.median(np.diff(points["Withers"][:, 0])))
         if not body_speed > 0:
             continue  # standing
         found.clips += 1
-        curves = _curves(points)
+        curves = _curves(tracked)
         strides = {h: _strides(h, points[h][:, 0], body_speed, clip.fps) for h in HOOVES}
         for hoof, hoof_strides in strides.items():
             for stride in hoof_strides:

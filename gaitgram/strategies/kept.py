@@ -8,7 +8,6 @@ pickled state. The report draws them (:mod:`gaitgram.study.figures`).
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Collection, Iterator
 from dataclasses import dataclass
@@ -16,6 +15,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from gaitgram import jsonio
 
 FRONT = "front.json"
 ARCHIVE = "archive.json"
@@ -27,7 +28,9 @@ class RecordError(ValueError):
 
 def _read(path: Path) -> dict[str, Any]:
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = jsonio.loads(path.read_text(encoding="utf-8"))
+    except jsonio.NonFinite as error:
+        raise RecordError(f"{path}: malformed ({error}); the file was edited or damaged") from None
     except (OSError, ValueError) as error:
         raise RecordError(f"{path}: cannot read it: {error}") from None
     if not isinstance(data, dict):

@@ -16,7 +16,6 @@ finished are left for later (``gaitgram report --watch`` measures them as they f
 
 from __future__ import annotations
 
-import json
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
@@ -149,7 +148,7 @@ def _best_walk(directory: RunDirectory, version: str, runs: range) -> dict[str, 
 
 def _kept(path: Path, record: dict[str, Any]) -> bool:
     try:
-        kept = json.loads(path.read_text(encoding="utf-8"))
+        kept = jsonio.loads(path.read_text(encoding="utf-8"))  # a damaged one is measured again
     except (OSError, ValueError):
         return False
     return isinstance(kept, dict) and kept_key(kept) == kept_key(record)

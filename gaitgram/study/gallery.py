@@ -104,6 +104,19 @@ def gaits_section(
     return Section("gaits", "Gaits", "animated, as scored", figures=tuple(figures))
 
 
+def check_cells(arm: str, repertoire: Repertoire, cells: Sequence[tuple[int, ...]]) -> None:
+    """Refuse a cell given with another number of indices than the repertoire has descriptors
+    (``--cell 1`` of a grid), rather than call it empty."""
+    names = [str(d["name"]) for d in repertoire.descriptors]
+    for cell in cells:
+        if len(cell) != len(names):
+            shape = ",".join("IJ"[: len(names)])
+            raise ReportError(
+                f"--cell {','.join(map(str, cell))}: the repertoire of arm {arm} has {len(names)} "
+                f"descriptor(s) ({', '.join(names)}); give a cell as {shape}"
+            )
+
+
 def best_walk(arm: ArmRecord) -> KeptGait | None:
     """The best walk any finished run of a mujoco-horse arm hands back (of the runs the report
     reads); None if the arm is drawn on another backend, its backend judges no walks, or no run

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from gaitgram import jsonio
 from gaitgram.packaged import packaged
 from gaitgram.study import escape
 from gaitgram.study.assess import ASSESSMENT, FORMAT, MEASURED_ON, assessment_path, best_walk_path, kept_key
@@ -150,7 +151,9 @@ def _again(arm: ArmRecord) -> str:
 
 def _read(path: Any, arm: ArmRecord) -> dict[str, Any]:
     try:
-        kept = json.loads(path.read_text(encoding="utf-8"))
+        kept = jsonio.loads(path.read_text(encoding="utf-8"))
+    except jsonio.NonFinite as error:
+        raise ReportError(f"{path}: {error}; the file was edited or damaged: {_again(arm)}") from None
     except (OSError, ValueError) as error:
         raise ReportError(f"{path}: cannot read it ({error}); {_again(arm)}") from None
     if not isinstance(kept, dict):
@@ -164,7 +167,8 @@ def _best_json(arm: ArmRecord, run: int) -> dict[str, Any]:
 
 
 def _number(value: Any) -> bool:
-    return isinstance(value, int | float) and not isinstance(value, bool)
+    """A finite number (a kept file holds null for no value, never NaN or infinity)."""
+    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
 
 
 def _count(value: Any) -> bool:

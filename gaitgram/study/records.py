@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from gaitgram import jsonio
 from gaitgram.backends.api import Verdict
 from gaitgram.backends.registry import get_backend
 from gaitgram.evolution.rundir import CONFIG, MANIFEST, RunDirectoryError, read_manifest, saved_config
@@ -289,7 +290,9 @@ def _stats_line(line: str, where: str, generation: int, rewrite: str) -> dict[st
     ``where`` is the file and line, as the user's editor numbers it (blank lines included)."""
     damaged = f"the file was edited or damaged: {rewrite}"
     try:
-        record = json.loads(line)
+        record = jsonio.loads(line)
+    except jsonio.NonFinite as error:
+        raise ReportError(f"{where}: {error}; {damaged}") from None
     except ValueError as error:
         raise ReportError(f"{where}: not JSON ({error}); {damaged}") from None
     if not isinstance(record, dict):
@@ -316,13 +319,15 @@ def _stats_line(line: str, where: str, generation: int, rewrite: str) -> dict[st
 
 def _best_record(path: Path, best: float, rewrite: str) -> dict[str, Any]:
     """``best.json``'s status and components, checked, and its fitness the statistics' last best."""
+    damaged = f"the file was edited or damaged: {rewrite}"
     try:
-        record = json.loads(path.read_text(encoding="utf-8"))
+        record = jsonio.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise ReportError(f"{path} is missing; {rewrite}") from None
+    except jsonio.NonFinite as error:
+        raise ReportError(f"{path}: {error}; {damaged}") from None
     except (OSError, ValueError) as error:
         raise ReportError(f"{path}: cannot read it ({error}); {rewrite}") from None
-    damaged = f"the file was edited or damaged: {rewrite}"
     if not isinstance(record, dict):
         raise ReportError(f"{path}: not a record of the best gait; {damaged}")
     components = record.get("components")

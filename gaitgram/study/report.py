@@ -54,10 +54,10 @@ from gaitgram.fileio import (
 )
 from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts, load_repertoire
 from gaitgram.study import escape
-from gaitgram.study.assess import assess_arms
+from gaitgram.study.assess import MEASURED_ON, assess_arms
 from gaitgram.study.figures import draw, rendered
 from gaitgram.study.formats import text_files
-from gaitgram.study.gallery import gaits_section, render_gaits, spread_cells
+from gaitgram.study.gallery import DRAWN_ON, check_cells, gaits_section, render_gaits, spread_cells
 from gaitgram.study.html import html
 from gaitgram.study.kept_gaits import arm_curves_figure, load_assessed, realism_section, robustness_section
 from gaitgram.study.manifest import STUDY_MANIFEST, study_holds
@@ -73,7 +73,7 @@ from gaitgram.study.model import (
     start_section,
     walk_rates_section,
 )
-from gaitgram.study.records import ArmRecord, ReportError, check_comparable, load_arms
+from gaitgram.study.records import ArmRecord, ReportError, check_comparable, load_arms, scoring_listing
 
 HTML = "report.html"
 
@@ -120,6 +120,46 @@ def study_report(
     return build_report(
         arms, title=title, sections=[s for s in sections if s is not None], mixed_scoring=mixed_scoring
     )
+
+
+def check_requests(
+    arms: Sequence[ArmRecord], *, gaits: int, chosen: Sequence[tuple[int, ...]], assess: bool
+) -> None:
+    """Refuse, before anything is measured or drawn, options the arms give nothing to, rather than
+    make a report the same as without them: ``chosen`` cells where no arm keeps a repertoire (or
+    of another shape than its cells), ``assess`` and gaits to animate (``gaits``, ``chosen``)
+    where no arm was scored on the backend that measures and draws them."""
+    if chosen:
+        repertoires = {name: r for name, r in kept_sets(arms)[1].items() if r is not None}
+        if not repertoires:
+            kept = ", ".join(f"{a.name}: {a.strategy}" for a in arms)
+            raise ReportError(
+                f"--cell picks a cell of a map-elites arm's repertoire; no arm here keeps one ({kept}): "
+                "drop --cell"
+            )
+        for name, repertoire in repertoires.items():
+            check_cells(name, repertoire, chosen)
+    scored = scoring_listing(arms)
+    if assess and not any(a.backend == MEASURED_ON for a in arms):
+        raise ReportError(
+            f"--assess measures the best gaits of {MEASURED_ON} runs beside real horses and under "
+            f"disturbances; these arms were scored otherwise ({scored}): drop --assess"
+        )
+    if (gaits or chosen) and not any(a.backend == DRAWN_ON for a in arms):
+        flag = f"--gaits {gaits}" if gaits else f"--cell {','.join(map(str, chosen[0]))}"
+        raise ReportError(
+            f"{flag}: gaits are drawn on the {DRAWN_ON} backend; these arms were scored otherwise "
+            f"({scored}): drop {flag.split()[0]}"
+        )
+
+
+def _say_unanimated(report: StudyReport, gaits: int, progress: Callable[[str], None] | None) -> None:
+    """Say that ``--gaits`` found nothing to animate (no arm hands back a walk, a front or a
+    repertoire), rather than leave the report silently the same as without it."""
+    if gaits and progress and not any(isinstance(f.data, Gait) for f in report.figures):
+        progress(
+            f"--gaits {gaits}: no arm hands back a walk, a Pareto front or a repertoire; nothing to animate"
+        )
 
 
 def _beside_the_real_walks(gallery: Section, arms: Sequence[ArmRecord], assessed: Sequence) -> Section:
@@ -284,9 +324,11 @@ def make_report(
     try:
         arms, title = load_arms(directories, runs=runs)
         check_comparable(arms, mixed_scoring=mixed_scoring)  # before anything is made
+        check_requests(arms, gaits=gaits, chosen=chosen, assess=assess)
         if assess:
             assess_arms(arms, progress=progress)
         report = study_report(arms, title=title, gaits=gaits, chosen=chosen, mixed_scoring=mixed_scoring)
+        _say_unanimated(report, gaits, progress)
         report = _with_window(report, arms)
         return write_report(report, out, force=force, progress=progress)
     except ReportInterrupted:
@@ -377,11 +419,13 @@ def watch_report(
             done = sum(len(a.runs) for a in arms) >= planned
             if arms and state != seen:
                 check_comparable(arms, mixed_scoring=mixed_scoring)
+                check_requests(arms, gaits=gaits, chosen=chosen, assess=assess)
                 if assess:
                     assess_arms(arms, progress=progress)
                 report = study_report(
                     arms, title=title, gaits=gaits, chosen=chosen, mixed_scoring=mixed_scoring
                 )
+                _say_unanimated(report, gaits, progress)
                 report = _with_window(report, arms)
                 ongoing = None if done else progress_section(arms, planned, interval)
                 drawn = None if ongoing is None else _Shown(arms, planned, report, {})

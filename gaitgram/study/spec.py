@@ -44,6 +44,7 @@ from typing import Any
 
 from gaitgram.diagnostics import TextEdit
 from gaitgram.evolution.config import (
+    LIMITS,
     ConfigError,
     RunConfig,
     config_from_mapping,
@@ -53,6 +54,7 @@ from gaitgram.evolution.rundir import build_pipeline
 from gaitgram.evolution.transfer import TransferError, start_genomes
 from gaitgram.language import parse
 from gaitgram.language.edits import apply_edits
+from gaitgram.language.ranges import MAX_RANGE_VALUES
 from gaitgram.language.source import SourceError, SourceText, read_source
 from gaitgram.pipeline import Pipeline, PipelineError
 from gaitgram.strategies.registry import strategy_names
@@ -130,11 +132,14 @@ def load_study(path: Path, scale: ScaleDown = ScaleDown()) -> Study:
     if scale.runs is not None:
         runs = _runs(scale.runs, "--runs")
     seed = data.get("seed", 0)
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise StudyError(f"{at('seed')}: seed: must be a whole number >= 0, not {seed!r}")
+    low, high = LIMITS["seed"]
+    if isinstance(seed, bool) or not isinstance(seed, int) or not low <= seed <= high:
+        raise StudyError(f"{at('seed')}: seed: must be a whole number in [0, {high:_}], not {seed!r}")
     shared = [
         _Source(_table(data, "settings", at, "[settings]"), lambda key: key_location(path, "settings", key)),
         _config_file(data.get("config"), base, at),
+        # the study's own run keys (its seed), below every table and file: blamed on their line
+        _Source({key: data[key] for key in ("seed",) if key in data}, at),
     ]
     arms_data = data.get("arm")
     if not isinstance(arms_data, list) or not arms_data:
@@ -248,6 +253,12 @@ def _arm(
         isinstance(v, int) and not isinstance(v, bool) for v in defines.values()
     ):
         raise StudyError(f"{at('defines')}: defines: must be a table of NAME = whole number")
+    for define, value in defines.items():
+        if not 1 <= value <= MAX_RANGE_VALUES:  # blamed here, where it is written, not in the grammar
+            raise StudyError(
+                f"{at('defines')}: defines: {define} = {value}: a GE_RANGE size must be from 1 to "
+                f"{MAX_RANGE_VALUES:,}"
+            )
     sources = [  # highest precedence first
         _Source(
             _table(data, "settings", at, "[arm.settings]"),

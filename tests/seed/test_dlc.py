@@ -214,6 +214,28 @@ def test_non_finite_values_are_missing_landmarks(tmp_path: Path) -> None:
     assert summary == json.loads((tmp_path / "clean.json").read_text())
 
 
+def test_a_gap_leaves_a_steady_angle_steady(tmp_path: Path) -> None:
+    """The synthetic walk's fetlocks hold 30 degrees. A missing, infinite or unlikely cell of a
+    limb's landmark where its path turns a corner (the frames about a hoof's landing, where a
+    landmark interpolated on its own cuts the corner) leaves each fetlock curve at 30 degrees, as
+    on the clean track (issue 39: one such cell made a fetlock's mean 33.1)."""
+    clean = tmp_path / "clean.csv"
+    synthetic_walk(clean)
+    gaps = {
+        (18, column("LeftFrontFetlock", "x")): "",
+        (22, column("RightHindFetlock", "x")): "inf",
+        (40, column("LeftFrontHoof", "x")): "nan",
+        (55, column("LeftHock", "likelihood")): "0.1",
+        (66, column("RightKnee", "y")): "-inf",
+    }
+    done = derive(edited(clean, tmp_path / "gaps.csv", gaps), "-o", tmp_path / "gaps.json")
+    assert done.returncode == 0, done.stderr
+    curves = json.loads((tmp_path / "gaps.json").read_text())["curves"]
+    for joint in ("fetlock_fore", "fetlock_hind"):
+        assert curves[joint]["mean"] == [PASTERN] * 20, joint
+        assert curves[joint]["range_of_motion"] == 0, joint
+
+
 def test_a_track_with_nothing_tracked_is_one_error_line(tmp_path: Path) -> None:
     """Every landmark under the likelihood threshold: no warning from numpy, one error naming the
     file and what to check."""

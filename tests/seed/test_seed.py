@@ -133,6 +133,9 @@ def test_seed_fit_cli() -> None:
         ("", "empty"),
         ("time,hip\n0,1\n", "header must be phase"),
         ("phase,hip\n0,1\n0.5,x\n", ":3: 'x' is not a number"),
+        # a damaged number is named by its line and column, as in every file gaitgram reads
+        ("phase,hip\n0,1\n0.25,inf\n0.5,1\n0.75,2\n", ":3: hip: 'inf' is not a finite number"),
+        ("phase,hip\nnan,1\n0.25,1\n0.5,1\n0.75,2\n", ":2: phase: 'nan' is not a finite number"),
         ("phase,hip\n0,1,2\n", ":2: 3 values"),
         ("phase,hip\n0,1\n0.5,2\n", "at least 4 samples"),
         ("phase,hip\n0.5,1\n0.2,2\n0.3,1\n0.4,2\n", "phases must increase"),

@@ -48,12 +48,13 @@ def test_figures_are_drawn_for_the_arms_that_keep_fronts_and_repertoires(report:
 def test_assess_measures_nothing_off_the_horse_and_changes_no_file(
     report: tuple[Path, str], tmp_path: Path
 ) -> None:
-    """The hand-made arms are not scored on mujoco-horse: --assess leaves them and the report alone."""
+    """The hand-made arms are not recorded as scored on mujoco-horse: --assess, which would measure
+    nothing, is refused (not a report the same as without it), and nothing is written."""
     out, _ = report
     study = out.parent / "study"
     result = runner.invoke(app, ["report", str(study), "-o", str(tmp_path / "assessed"), "--assess"])
-    assert result.exit_code == 0, result.stderr
+    assert result.exit_code == 2
+    assert result.stderr.startswith("error: --assess measures the best gaits of mujoco-horse runs")
+    assert "(alpha: backend not recorded; beta_front: backend not recorded" in result.stderr
     assert not list(study.rglob("*assessment.json"))
-    assert sorted(p.name for p in (tmp_path / "assessed").iterdir()) == sorted(p.name for p in out.iterdir())
-    for name in (*TEXT_FORMATS, "report.html"):
-        assert (tmp_path / "assessed" / name).read_bytes() == (out / name).read_bytes(), name
+    assert not (tmp_path / "assessed").exists()

@@ -172,7 +172,20 @@ def test_an_error_the_flags_cause_names_the_flag(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("old", "new", "where", "what"),
     [
-        ("seed = 7", "seed = -7", "s.toml:3:1: seed", "must be a whole number >= 0"),
+        (
+            "seed = 7",
+            "seed = -7",
+            "s.toml:3:1: seed",
+            "must be a whole number in [0, 9_223_372_036_854_775_807]",
+        ),
+        # a seed no run can take is the study file's, on its line, not an arm's (issue 39)
+        ("seed = 7", "seed = 99999999999999999999", "s.toml:3:1: seed: must", "not 99999999999999999999"),
+        (
+            'grammar = "g.gg"\n[arm',
+            'grammar = "g.gg"\ndefines = { n = 99999999999999999999 }\n[arm',
+            "s.toml:23:1: arm 'mutant': defines: n = 99999999999999999999",
+            "from 1 to 100,000",
+        ),
         (
             'title = "tiny"',
             'title = "tiny"\ntitel = "x"',
