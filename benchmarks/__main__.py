@@ -15,7 +15,13 @@ def main(argv: list[str]) -> int:
         for m in pkgutil.iter_modules([str(here)])
         if m.name.startswith("bench_")
     )
-    chosen = argv or available
+    # Options after the names go to the one benchmark named (``ponyge2 --runs 5``).
+    split = next((i for i, a in enumerate(argv) if a.startswith("-")), len(argv))
+    names, options = argv[:split], argv[split:]
+    if options and len(names) != 1:
+        print("options (after the benchmark's name) need exactly one benchmark named first", file=sys.stderr)
+        return 2
+    chosen = names or available
     unknown = [name for name in chosen if name not in available]
     if unknown:
         print(
@@ -24,7 +30,8 @@ def main(argv: list[str]) -> int:
         return 2
     for name in chosen:
         print(f"== {name} ==")
-        importlib.import_module(f"benchmarks.bench_{name}").main()
+        module = importlib.import_module(f"benchmarks.bench_{name}")
+        module.main(options) if options else module.main()
         print()
     return 0
 

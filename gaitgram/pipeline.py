@@ -183,7 +183,7 @@ class Pipeline:
         return self.mapper.map_many(genomes)
 
     def motion(self, mapped: Sequence[Mapped], generation: int) -> MotionBatch:
-        return motion_batch(
+        batch = motion_batch(
             [m.joints if m.valid else None for m in mapped],
             self.joints,
             units=self.grammar.units,
@@ -192,6 +192,9 @@ class Pipeline:
             frequency=self.frequency_limits,
             sensors=self.sensors,
         )
+        if self.spec.scores_phenotype:  # the backend reads the texts themselves
+            return replace(batch, phenotypes=tuple(m.phenotype if m.valid else None for m in mapped))
+        return batch
 
     @property
     def sensors(self) -> Sensors | None:
@@ -348,7 +351,7 @@ def _check_weights(config: RunConfig, spec: BackendSpec) -> None:
 
 
 def _check_joints(grammar: Grammar, spec: BackendSpec) -> None:
-    if not grammar.joints:
+    if not grammar.joints and not spec.scores_phenotype:
         raise PipelineError(
             "the grammar declares no @joint rule, so no curve would move; mark each joint curve's rule "
             "with @joint NAME (docs/language.md)"

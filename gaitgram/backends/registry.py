@@ -98,6 +98,9 @@ class BackendSpec:
     * ``sensors`` are what a closed-loop phenotype may read beside ``t``
       (:mod:`~gaitgram.backends.sensors`, declared as data like the joints); None: the
       backend plays open-loop curves only, and a grammar that reads a sensor is refused.
+    * ``scores_phenotype`` says that the evaluator scores each genome's whole phenotype text
+      (``MotionBatch.phenotypes``: an expression, a program), not joint curves
+      (``symbolic-regression``): a grammar then needs no ``@joint`` rule.
     """
 
     name: str
@@ -121,6 +124,7 @@ class BackendSpec:
     retarget_scalings: tuple[str, ...] = ()
     assess: Callable[[Mapping[str, Any], Any], list[dict[str, Any]]] | None = None
     sensors: SensorCatalogue | None = None
+    scores_phenotype: bool = False
 
     def checked_settings(self, settings: Mapping[str, Any]) -> dict[str, Any]:
         """``settings`` checked and normalised; :class:`SettingsError` names the bad key."""
@@ -146,6 +150,7 @@ class BackendLoadError(PluginLoadError):
 BUILTIN = {
     "curve-match": "gaitgram.backends.curve_match:BACKEND",
     "mujoco-horse": "gaitgram.backends.mujoco_horse:BACKEND",
+    "symbolic-regression": "gaitgram.backends.symbolic_regression:BACKEND",
 }
 
 REGISTRY: Registry[BackendSpec] = Registry(

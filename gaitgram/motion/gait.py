@@ -45,6 +45,8 @@ class MotionBatch:
     (None: the backend imposes one frequency on every gait). ``loops[g][j]`` is the closed
     loop of gait ``g``'s joint ``j`` where its phenotype reads sensors (None for an open-loop
     curve; ``loops`` None where no gait reads any), in units of ``loop_scale`` degrees.
+    ``phenotypes[g]`` is gait ``g``'s whole phenotype text (None: an invalid genome), carried only
+    for a backend that scores the text itself rather than curves (``BackendSpec.scores_phenotype``).
     """
 
     joints: tuple[str, ...]
@@ -54,6 +56,7 @@ class MotionBatch:
     frequencies: NDArray[np.float64] | None = None
     loops: tuple[tuple[ClosedLoop | None, ...], ...] | None = None
     loop_scale: float = 1.0
+    phenotypes: tuple[str | None, ...] | None = None
 
     def rows(self, start: int, stop: int) -> MotionBatch:
         """Gaits ``start..stop-1`` as a batch of their own."""
@@ -70,6 +73,7 @@ class MotionBatch:
             None if self.frequencies is None else self.frequencies[rows],
             None if self.loops is None else tuple(self.loops[i] for i in rows),
             self.loop_scale,
+            None if self.phenotypes is None else tuple(self.phenotypes[i] for i in rows),
         )
 
     @property
