@@ -147,11 +147,13 @@ def _best_walk(directory: RunDirectory, version: str, runs: range) -> dict[str, 
 
 
 def _kept(path: Path, record: dict[str, Any]) -> bool:
+    """Whether ``path`` keeps a current, complete assessment of ``record``'s gait: one made before
+    the graded trial existed is measured again (its other parts come out the same, bit for bit)."""
     try:
         kept = jsonio.loads(path.read_text(encoding="utf-8"))  # a damaged one is measured again
     except (OSError, ValueError):
         return False
-    return isinstance(kept, dict) and kept_key(kept) == kept_key(record)
+    return isinstance(kept, dict) and kept_key(kept) == kept_key(record) and "graded" in kept
 
 
 def measure(settings: dict[str, Any], batch: Any, spec: BackendSpec) -> list[dict[str, Any]]:

@@ -87,6 +87,28 @@ class Assessed:
     distance: float | None
     curves: dict[str, np.ndarray] | None
     trials: tuple[Trial, ...]
+    #: The graded trial's rungs (robustness.py's GRADES), None where it was not measured.
+    graded: tuple[Rung, ...] | None = None
+
+
+@dataclass(frozen=True)
+class Rung:
+    """One rung of the graded trial: a family of disturbance at one size, played ``plays`` times
+    (floors, phases), held ``held`` times; it holds when it held every play."""
+
+    family: str
+    size: float
+    unit: str
+    describe: str
+    upright: bool
+    walking: bool
+    detail: str | None
+    plays: int
+    held: int
+
+    @property
+    def holds(self) -> bool:
+        return self.upright and self.walking
 
 
 @dataclass(frozen=True)
@@ -243,6 +265,7 @@ def _assessed(kept: dict[str, Any], run: int, walk: bool | None, path: Any, arm:
                 trial["held"],
             )
         )
+    graded = None if "graded" not in kept else _graded(kept["graded"], damaged)
     fitness = kept.get("fitness")
     if not _number(fitness):
         raise damaged("fitness: not a number")
@@ -252,8 +275,60 @@ def _assessed(kept: dict[str, Any], run: int, walk: bool | None, path: Any, arm:
     ):
         raise damaged("genome: not a list of codons")
     return Assessed(
-        run, tuple(genome), float(fitness), walk, gait, measures, scores, distance, curves, tuple(checked)
+        run,
+        tuple(genome),
+        float(fitness),
+        walk,
+        gait,
+        measures,
+        scores,
+        distance,
+        curves,
+        tuple(checked),
+        graded,
     )
+
+
+def _graded(rungs: Any, damaged: Any) -> tuple[Rung, ...]:
+    """The graded trial's rungs as kept, checked field by field."""
+    if not isinstance(rungs, list):
+        raise damaged("graded: not a list")
+    checked = []
+    for rung in rungs:
+        if not (
+            isinstance(rung, dict)
+            and isinstance(rung.get("family"), str)
+            and _number(rung.get("size"))
+            and math.isfinite(rung["size"])
+            and isinstance(rung.get("unit"), str)
+            and isinstance(rung.get("describe"), str)
+            and isinstance(rung.get("upright"), bool)
+            and isinstance(rung.get("walking"), bool)
+            and (rung.get("detail") is None or isinstance(rung.get("detail"), str))
+            and _count(rung.get("plays"))
+            and _count(rung.get("held"))
+            and rung["plays"] > 0
+            and rung["held"] <= rung["plays"]
+            and (rung["held"] == rung["plays"]) == (rung["upright"] and rung["walking"])
+        ):
+            raise damaged(
+                "graded: a rung is not a family, size, unit, description, upright, walking, detail, "
+                "plays and held (no more than plays, all of them when it holds)"
+            )
+        checked.append(
+            Rung(
+                rung["family"],
+                float(rung["size"]),
+                rung["unit"],
+                rung["describe"],
+                rung["upright"],
+                rung["walking"],
+                rung["detail"],
+                rung["plays"],
+                rung["held"],
+            )
+        )
+    return tuple(checked)
 
 
 # ---- figure data -------------------------------------------------------------------------------

@@ -58,6 +58,7 @@ from gaitgram.study.assess import MEASURED_ON, assess_arms
 from gaitgram.study.figures import draw, rendered
 from gaitgram.study.formats import text_files
 from gaitgram.study.gallery import DRAWN_ON, check_cells, gaits_section, render_gaits, spread_cells
+from gaitgram.study.graded import graded_section
 from gaitgram.study.html import html
 from gaitgram.study.kept_gaits import arm_curves_figure, load_assessed, realism_section, robustness_section
 from gaitgram.study.manifest import STUDY_MANIFEST, study_holds
@@ -115,6 +116,7 @@ def study_report(
         fronts_section(arms, fronts, repertoires, cells),
         realism_section(arms, assessed),
         robustness_section(arms, assessed),
+        graded_section(arms, assessed),
         gallery and _beside_the_real_walks(gallery, arms, assessed),
     )
     return build_report(
