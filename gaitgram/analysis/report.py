@@ -106,7 +106,7 @@ def source_error(error: SourceError) -> Styled:
 
 
 @without_gc  # its fixes and records are tens of thousands of objects, none of them cyclic
-def json_report(checked: Iterable[CheckedFile], *, strict: bool = False) -> str:
+def json_report(checked: Iterable[CheckedFile | SourceError], *, strict: bool = False) -> str:
     """``gaitgram check --format json``: every diagnostic of every file, in order, as one array,
     indented two spaces as ``json.dumps(indent=2, ensure_ascii=False)`` would (a property test
     holds them equal).
@@ -115,7 +115,9 @@ def json_report(checked: Iterable[CheckedFile], *, strict: bool = False) -> str:
     applied), ``message``, ``rule``, ``line``, ``column``, ``end_line``, ``end_column`` (1-based,
     the end exclusive), ``hint``, ``data`` (the names it is about) and ``fixes``: each with
     ``title``, ``applicability`` (safe or unsafe), ``preferred`` and ``edits``, each edit
-    replacing the text between its positions, in the file as read, with ``text``.
+    replacing the text between its positions, in the file as read, with ``text``. A file that
+    could not be read (a :class:`SourceError`) is one object of the same keys, ``code`` null and
+    ``name`` ``unreadable-file``, its message saying why, as SARIF's tool notification does.
 
     Written record by record from templates, not built as objects and then serialised: a
     10,000-rule grammar's report holds 50,000 fix edits, most of them shared (removing a chain of
@@ -123,6 +125,9 @@ def json_report(checked: Iterable[CheckedFile], *, strict: bool = False) -> str:
     """
     records: list[str] = []
     for found in checked:
+        if isinstance(found, SourceError):
+            records.append(_json_unreadable(found))
+            continue
         file = f'  {{\n    "file": {encode_basestring(found.source.name)},\n'
         edits: dict[int, str] = {}  # by id: the diagnostics hold their edits while this runs
         records += [_json_record(file, d, found.source, strict, edits) for d in found.diagnostics]
@@ -149,6 +154,19 @@ def _json_record(
         f'    "hint": {"null" if diagnostic.hint is None else text(diagnostic.hint)},\n'
         f'    "data": {data},\n'
         f'    "fixes": {fixes}\n  }}'
+    )
+
+
+def _json_unreadable(error: SourceError) -> str:
+    """A file that could not be read, as a diagnostic of no code and no place."""
+    text = encode_basestring
+    return (
+        f'  {{\n    "file": {text(error.path)},\n    "code": null,\n    "name": "unreadable-file",\n'
+        f'    "severity": "error",\n    "message": {text(f"cannot read {error.path}: {error.message}")},\n'
+        '    "rule": null,\n    "line": null,\n    "column": null,\n'
+        '    "end_line": null,\n    "end_column": null,\n'
+        f'    "hint": {"null" if error.hint is None else text(error.hint)},\n'
+        '    "data": {},\n    "fixes": []\n  }'
     )
 
 

@@ -61,15 +61,18 @@ def command(
     tally = Tally(options)
     checked: list[CheckedFile] = []
     unreadable: list[SourceError] = []
+    in_order: list[CheckedFile | SourceError] = []  # what JSON lists, the files as given
     for found in check_files(files, options):
         tally.add(found)
         _show(found, out, output_format, strict)
         if found.unreadable is not None:
             unreadable.append(found.unreadable)
+            in_order.append(found.unreadable)
         elif found.checked is not None and output_format is not OutputFormat.HUMAN:
             checked.append(found.checked)
+            in_order.append(found.checked)
     if output_format is OutputFormat.JSON:
-        write_text(json_report(checked, strict=strict) + "\n")
+        write_text(json_report(in_order, strict=strict) + "\n")
     elif output_format is OutputFormat.SARIF:
         from gaitgram.analysis.sarif import sarif_report  # urllib and the code catalogue: only here
 

@@ -4,6 +4,7 @@ and a verified resume."""
 from __future__ import annotations
 
 import contextlib
+import os
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -123,7 +124,7 @@ def command(
     flags = {"generations": generations, "population": population, "runs": runs, "seed": seed}
     flags["backend"] = backend
     flags["strategy"] = strategy
-    flags["start_from"] = None if start_from is None else str(start_from.resolve())
+    flags["start_from"] = None if start_from is None else os.path.abspath(start_from)  # as a file's is
     given = {k: v for k, v in flags.items() if v is not None}
     with contextlib.ExitStack() as held:  # the run directory's lock and the evaluator, until the end
         try:
@@ -279,7 +280,7 @@ def _resume(
             check_output(place, force=False, directory=True)
     held.enter_context(_lock(path))
     found: list[str] = []
-    if out is not None and out.resolve() != path.resolve():
+    if out is not None and os.path.realpath(out) != os.path.realpath(path):  # a link loop raises no error
         found.append(f"--out {out}: a resumed run stays in {path}")
     source = None
     if grammar is not None:

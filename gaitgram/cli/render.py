@@ -160,7 +160,7 @@ def _gaits(chosen: SelectedGait, compare: str | None) -> tuple[_Gait, _Gait | No
     scored by the mujoco-horse backend)."""
     bodies = chosen.pipeline.spec.bodies or {}
     body = compare if compare in bodies else None
-    if compare not in (None, SEED) and body is None and not Path(compare).exists():
+    if compare not in (None, SEED) and body is None and not os.path.lexists(compare):  # a loop: said below
         close = difflib.get_close_matches(compare, [SEED, *bodies], n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
         raise fail(

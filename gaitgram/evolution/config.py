@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from gaitgram.ge.mapper import CodonMode
+from gaitgram.language.source import describe_os_error
 from gaitgram.tomlplaces import key_location
 
 
@@ -229,7 +230,7 @@ def read_toml(path: Path) -> dict[str, Any]:
     except UnicodeDecodeError:
         raise ConfigError(f"{path}: not UTF-8 text") from None
     except OSError as error:
-        raise ConfigError(f"{path}: cannot read: {error.strerror or error}") from None
+        raise ConfigError(f"{path}: cannot read: {describe_os_error(error)}") from None
     except ValueError:  # a NUL in the name: no file can have it
         raise ConfigError(f"{str(path)!r}: cannot read: a file name cannot hold a NUL character") from None
     try:

@@ -40,13 +40,18 @@ from gaitgram import __version__, jsonio
 from gaitgram.analysis import check
 from gaitgram.backends.api import Evaluation, GaitStatus
 from gaitgram.backends.registry import backend_version
-from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint, refingerprint_checkpoint
+from gaitgram.evolution.checkpoint import (
+    CHECKPOINT_VERSION,
+    CheckpointError,
+    load_checkpoint,
+    refingerprint_checkpoint,
+)
 from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, differences, read_toml
 from gaitgram.evolution.engine import ENGINE_REVISION, run_context, run_files
 from gaitgram.evolution.records import run_records
 from gaitgram.fileio import Input, OutputError, check_output, created_directory, write_atomically
 from gaitgram.language import parse
-from gaitgram.language.source import SourceText, decode_source
+from gaitgram.language.source import SourceText, decode_source, path_problem
 from gaitgram.pipeline import Genome, Individual, Pipeline, PipelineError
 from gaitgram.strategies.api import RunState, StrategyError
 from gaitgram.strategies.kept import RecordError, kept_members
@@ -386,11 +391,18 @@ _MANIFEST_FIELDS: dict[str, type | tuple[type, ...]] = {
 
 
 def _read_manifest(path: Path) -> dict[str, Any]:
-    if not path.is_dir():
-        raise RunDirectoryError(f"{path} is not a run directory (no such directory)")
+    problem = path_problem(path, directory=True)
+    if problem is not None:
+        raise RunDirectoryError(f"{path} is not a run directory ({problem})")
     if not (path / MANIFEST).exists():
         if (path / CONFIG).exists() or (path / GRAMMAR).exists():
-            raise RunDirectoryError(f"{path} cannot be resumed: {_without_manifest(path)}")
+            raise RunDirectoryError(f"{path} cannot be used: {_without_manifest(path)}")
+        arms = sorted(arm.name for arm in path.glob("arms/*") if (arm / MANIFEST).is_file())
+        if arms:
+            raise RunDirectoryError(
+                f"{path} is a study directory, not a run directory: give one of its arms, "
+                f"{path / 'arms' / arms[0]} (its arms: {', '.join(arms)})"
+            )
         raise RunDirectoryError(f"{path} is not a `gaitgram evolve` run directory (no {MANIFEST})")
     try:
         manifest = json.loads(_read_bytes(path / MANIFEST).decode("utf-8"))
@@ -416,6 +428,12 @@ def _read_manifest(path: Path) -> dict[str, Any]:
 
 def _without_manifest(path: Path) -> str:
     """Why a directory with a run's files but no manifest cannot be used, and what to do."""
+    if any(_of_this_gaitgram(c) for c in path.glob("run-[0-9][0-9][0-9]/checkpoint.json")):
+        return (
+            f"its {MANIFEST} is missing, deleted or lost (its runs' checkpoints are this gaitgram's), so "
+            "nothing can prove its runs are unchanged; restore it from a backup, or start a new run "
+            "with another --out (this one stays as it is, for gaitgram report)"
+        )
     if any(path.glob("run-[0-9][0-9][0-9]")):
         return (
             f"it was made by an older gaitgram that kept no {MANIFEST}, so nothing can prove its runs "
@@ -425,6 +443,14 @@ def _without_manifest(path: Path) -> str:
         f"its creation was interrupted before {MANIFEST} was written (by a gaitgram that did not yet "
         "create run directories whole), so it holds no run; delete it and run the same command again"
     )
+
+
+def _of_this_gaitgram(checkpoint: Path) -> bool:
+    """Whether a checkpoint is of this gaitgram's format (whose run directories keep a manifest)."""
+    try:
+        return jsonio.loads(checkpoint.read_bytes())["checkpoint"]["version"] == CHECKPOINT_VERSION
+    except (OSError, ValueError, TypeError, KeyError):
+        return False
 
 
 def _why_taken(path: Path) -> str:
@@ -489,9 +515,19 @@ def _last_states(
     directory: RunDirectory, runs: Collection[int] | None = None
 ) -> Iterator[tuple[int, RunState]]:
     """Each run's last checkpoint (runs with none yet are skipped; of ``runs`` alone, if given),
-    without strategy memory."""
+    without strategy memory. A run that recorded generations but has no checkpoint lost it: that
+    is said, not skipped (its best would silently not count)."""
     for run, path in enumerate(directory.checkpoints):
-        if (runs is None or run in runs) and path.exists():
+        if runs is not None and run not in runs:
+            continue
+        if not path.exists() and (path.parent / "stats.jsonl").exists():
+            stats = path.parent / "stats.jsonl"
+            raise RunDirectoryError(
+                f"{path} is missing, though the run recorded its generations ({stats}): it was deleted "
+                "or lost; restore it from a backup, or run the run again from its start (its seed makes "
+                f"the same run): gaitgram evolve --resume {directory.path}"
+            )
+        if path.exists():
             yield (
                 run,
                 load_checkpoint(

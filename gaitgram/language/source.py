@@ -215,6 +215,26 @@ def _refuse_non_files(name: str, kind: int, what: str) -> None:
         raise SourceError(name, f"is {_NOT_FILES[kind]}, not a file", f"give the path of a {what} file")
 
 
+def path_problem(path: str | Path, *, directory: bool = False) -> str | None:
+    """Why ``path`` is no file (with ``directory``: no directory) to read, as said after its name:
+    ``no such file``, ``is a directory``, or what the system says (a symbolic link that loops, no
+    permission); None if it is one."""
+    want = "directory" if directory else "file"
+    try:
+        kind = stat.S_IFMT(os.stat(path).st_mode)
+    except FileNotFoundError:
+        return f"no such {want}"
+    except OSError as error:
+        return describe_os_error(error)
+    except ValueError:  # a NUL in the name
+        return f"no {want} has such a name"
+    if directory:
+        return None if kind == stat.S_IFDIR else "is a file, not a directory"
+    if kind == stat.S_IFDIR:
+        return "is a directory, not a file"
+    return f"is {_NOT_FILES[kind]}, not a file" if kind in _NOT_FILES else None
+
+
 def describe_os_error(error: OSError) -> str:
     """``No space left on device`` as ``no space left on device``, to read as part of a sentence."""
     reason = error.strerror or str(error) or type(error).__name__

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from gaitgram.language.source import describe_os_error
 from gaitgram.packaged import packaged
 
 if TYPE_CHECKING:
@@ -127,8 +128,12 @@ def read_seed_csv(path: Path) -> SeedCurves:
     """Read a seed CSV (``phase`` then one column per joint); every problem is a SeedError."""
     try:
         text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as error:
-        raise SeedError(f"{path}: cannot read: {error}") from None
+    except OSError as error:
+        raise SeedError(f"{path}: cannot read it: {describe_os_error(error)}") from None
+    except UnicodeDecodeError as error:
+        raise SeedError(
+            f"{path}: cannot read it: not UTF-8 text ({error.reason} at byte {error.start})"
+        ) from None
     rows = list(csv.reader(io.StringIO(text)))
     if not rows or not any(cell.strip() for cell in rows[0]):
         raise SeedError(f"{path}: empty; a seed CSV starts with a header: phase,<joint>,<joint>,...")

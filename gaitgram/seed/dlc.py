@@ -37,6 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gaitgram.extras import require
+from gaitgram.language.source import path_problem
 
 __all__ = [
     "CURVES",
@@ -147,8 +148,12 @@ def read_clip(path: Path, fps: float = 15.0) -> Clip:
     interpolated. Tracks over :data:`MAX_FRAMES` frames are refused."""
     if not FPS_RANGE[0] <= fps <= FPS_RANGE[1]:  # also refuses nan
         raise DlcError(f"{fps} frames per second: a camera films at {FPS_RANGE[0]:g} to {FPS_RANGE[1]:g}")
-    if not path.is_file():
-        raise DlcError(f"cannot read {path}: no such file")
+    problem = path_problem(path)
+    if problem is not None:
+        where = (
+            " (give the tracks in it, or the directory to `gaitgram seed derive`)" if path.is_dir() else ""
+        )
+        raise DlcError(f"cannot read {path}: {problem}{where}")
     if path.suffix.lower() == ".csv":
         values = _read_csv(path)
     elif path.suffix.lower() in (".h5", ".hdf5"):

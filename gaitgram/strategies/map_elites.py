@@ -197,8 +197,11 @@ def descriptors_of(settings: Mapping[str, Any]) -> tuple[Descriptor, ...]:
     return tuple(Descriptor(d["name"], d["low"], d["high"], d["bins"]) for d in settings["descriptors"])
 
 
-def _descriptor(value: Any, index: int, hints: Mapping[str, tuple[float, float]]) -> Descriptor:
+def _descriptor(value: Any, index: int, pipeline: Pipeline) -> Descriptor:
+    """One descriptor, its name first: a misspelt one is named as such (with the name it is
+    close to), not asked for a range the backend would suggest for the name meant."""
     key = f"descriptors[{index}]"
+    hints = dict(pipeline.spec.descriptors or {})
     if isinstance(value, str):
         value = {"name": value}
     if not isinstance(value, Mapping) or not isinstance(value.get("name"), str) or not value["name"]:
@@ -207,6 +210,7 @@ def _descriptor(value: Any, index: int, hints: Mapping[str, tuple[float, float]]
     if unknown:
         raise SettingsError(f"{key}.{sorted(unknown)[0]}", "unknown; a descriptor has name, low, high, bins")
     name = value["name"]
+    reported(pipeline, name, f"{key}.name")
     if ("low" not in value or "high" not in value) and name not in hints:
         raise SettingsError(
             key, f"give the range of {name!r}: low = ..., high = ... (the backend suggests none)"
@@ -240,9 +244,7 @@ def check(pipeline: Pipeline) -> Mapping[str, Any]:
         )
     if len(given) > 2:
         raise SettingsError("descriptors", f"one or two descriptors (a line or a grid), not {len(given)}")
-    descriptors = [_descriptor(value, i, hints) for i, value in enumerate(given)]
-    for index, descriptor in enumerate(descriptors):
-        reported(pipeline, descriptor.name, f"descriptors[{index}].name")
+    descriptors = [_descriptor(value, i, pipeline) for i, value in enumerate(given)]
     if len({d.name for d in descriptors}) != len(descriptors):
         raise SettingsError("descriptors", "names a component twice")
     if math.prod(d.bins for d in descriptors) > MAX_CELLS:

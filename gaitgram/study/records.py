@@ -25,6 +25,7 @@ from gaitgram import jsonio
 from gaitgram.backends.api import Verdict
 from gaitgram.backends.registry import get_backend
 from gaitgram.evolution.rundir import CONFIG, MANIFEST, RunDirectoryError, read_manifest, saved_config
+from gaitgram.language.source import path_problem
 from gaitgram.pipeline import DEFAULT_BACKEND
 from gaitgram.plugins import PluginLoadError, PluginNotFound
 from gaitgram.strategies.kept import RecordError, kept_members
@@ -149,6 +150,14 @@ def load_arm(
     still running (or not started) are left out instead of refused. With ``runs``, only runs 0 to
     ``runs - 1`` are read (refused if the arm plans fewer).
     """
+    problem = path_problem(path, directory=True)
+    if problem == "no such directory" and finished_only:  # report --watch, before anything began
+        raise ReportError(
+            f"{path}: no such directory yet; --watch follows a study or run that has begun: start it "
+            f"(gaitgram study STUDY.toml -o {path}, or gaitgram evolve GRAMMAR -o {path}), then watch it"
+        )
+    if problem is not None:
+        raise ReportError(f"{path}: {problem}")
     if not (path / CONFIG).is_file() and not (path / MANIFEST).is_file():
         raise ReportError(f"{path}: not a `gaitgram evolve` run directory (it has no {CONFIG})")
     try:
