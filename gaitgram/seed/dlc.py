@@ -295,13 +295,13 @@ def _angle(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64
 
 
 def _world(clip: Clip) -> tuple[dict[str, NDArray[np.float64]], dict[str, NDArray[np.float64]]] | None:
-    """Every landmark with y up and x forward (the horse walks either way past the camera), with
-    its gaps interpolated, and as tracked (NaN where missing); None if the withers, which give the
-    body's speed and direction, are tracked in under two frames. (Footfalls are read on these
-    paths: a hoof lost at the frame it lands may land a frame early or late, which no frame
-    says.)"""
+    """The withers and hooves with y up and x forward (the horse walks either way past the
+    camera), their gaps interpolated, and every landmark as tracked (NaN where missing); None if
+    the withers, which give the body's speed and direction, are tracked in under two frames.
+    (Footfalls are read on the filled paths: a hoof lost at the frame it lands may land a frame
+    early or late, which no frame says.)"""
     tracked = {k: clip.point(k) * np.array([1.0, -1.0]) for k in KEYPOINTS}
-    points = {k: _filled_path(xy) for k, xy in tracked.items()}
+    points = {k: _filled_path(tracked[k]) for k in ("Withers", *HOOVES)}  # what footfalls read
     if np.isnan(points["Withers"]).any():  # filled: either complete or never tracked
         return None
     forward = np.mean(np.diff(points["Withers"][:, 0]))
