@@ -222,8 +222,8 @@ def sensed_curve(
     motion = compile_motion(text, sensors.names)
     if not isinstance(motion, Motion):
         return _EMPTY, None, MotionProblem.INVALID_MOTION, str(motion)
-    if not motion.sensors:
-        values, problem, detail = sampled_curve(text, n_samples)
+    if not motion.sensors:  # sampled as sampled_curve samples it, without compiling it again
+        values, problem, detail = _sampled(motion, n_samples)
         return values, None, problem, detail
     loop = closed_loop(motion, sensors.periodic, n_samples)
     if not isinstance(loop, ClosedLoop):
@@ -247,6 +247,10 @@ def sampled_curve(text: str, n_samples: int) -> tuple[NDArray[np.float64], Motio
     motion = compile_motion(text)
     if not isinstance(motion, Motion):
         return _EMPTY, MotionProblem.INVALID_MOTION, str(motion)
+    return _sampled(motion, n_samples)
+
+
+def _sampled(motion: Motion, n_samples: int) -> tuple[NDArray[np.float64], MotionProblem | None, str | None]:
     curve = motion.evaluate(phase_grid(n_samples))
     if curve.status is not MotionStatus.OK:
         non_finite = curve.status is MotionStatus.NON_FINITE

@@ -58,10 +58,13 @@ class Actuation:
             return np.ones(last - first)
         return np.clip(np.arange(first, last) * self.timestep / self.ramp_seconds, 0.0, 1.0)
 
-    def finish(self, values: NDArray[np.float64], first: int, last: int) -> NDArray[np.float64]:
+    def finish(
+        self, values: NDArray[np.float64], first: int, last: int, ramp: NDArray[np.float64] | None = None
+    ) -> NDArray[np.float64]:
         """Curve values (radians) [gaits, steps, nu] of steps ``first..last-1`` as controls, in
-        place: blended in over the ramp, around the neutral targets, within the control range."""
-        values *= self.ramp(first, last)[None, :, None]
+        place: blended in over the ramp (``ramp``: :meth:`ramp`'s, computed ahead), around the
+        neutral targets, within the control range."""
+        values *= (self.ramp(first, last) if ramp is None else ramp)[None, :, None]
         values += self.neutral[None, None, :]
         np.clip(values, self.low[None, None, :], self.high[None, None, :], out=values)
         return values
@@ -97,10 +100,12 @@ class OpenLoop:
         first: int,
         last: int,
         frequencies: NDArray[np.float64] | None = None,
+        columns: NDArray[np.intp] | None = None,
     ) -> NDArray[np.float64]:
         """Curve values (radians) [gaits, last - first, actuators] for steps ``first..last-1`` from
-        a table, at the reference frequency, or at each gait's own ``frequencies`` (Hz)."""
-        steps = slice(first, last)
+        a table, at the reference frequency, or at each gait's own ``frequencies`` (Hz); of the
+        actuators ``columns`` only (None: all), each the value it has among all."""
+        steps = (slice(first, last),) if columns is None else (slice(first, last), columns)
         if frequencies is None:
             low, high, frac = self.lookup(samples, last)
             # One flat gather per interpolation end, straight into [gaits, steps, actuators] order.
@@ -108,7 +113,8 @@ class OpenLoop:
             values = np.take(table, high[steps], axis=1)
             fraction = frac[steps]
         else:  # the same per distinct frequency (grammars evolve a few), gaits gathered by it
-            shape = (len(table), last - first, self.actuation.nu)
+            width = self.actuation.nu if columns is None else len(columns)
+            shape = (len(table), last - first, width)
             v_low, values, fraction = np.empty(shape), np.empty(shape), np.empty(shape)
             for value in np.unique(frequencies):
                 gaits = np.flatnonzero(frequencies == value)
@@ -181,16 +187,18 @@ class Oscillators:
         step: int,
         sensordata: NDArray[np.float64],
         frequencies: NDArray[np.float64],
-    ) -> None:
+    ) -> NDArray[np.bool_] | None:
         """Take in the hooves' contacts at ``step`` (the state the tick starts from, [ids, ...]):
-        a landing restarts its limb's phase at this step."""
+        a landing restarts its limb's phase at this step. Returns which of ``ids`` (positions)
+        landed a hoof, None if none did."""
         elapsed = (step - self._last_step) * self.actuation.timestep
         self._last_step = step
         down = sensordata[:, self.touch_columns] > self.above  # [ids, limbs]
         was_up = self.airborne[ids] > 0  # seen up at the last tick (a hoof down reads 0)
         airborne = np.where(was_up | ~down, self.airborne[ids] + elapsed, 0.0)
         landed = down & was_up & (airborne >= self.airborne_needed)
-        if landed.any():
+        any_landed = bool(landed.any())
+        if any_landed:
             # The limb's unwrapped clock at this step, as :meth:`Actuation.clock` computes it.
             limb_offsets = self._limb_offsets()
             clock = step * self.actuation.timestep * frequencies[:, None] - limb_offsets[None, :]
@@ -198,6 +206,7 @@ class Oscillators:
             shift[landed] = -clock[landed]
             self.shift[ids] = shift
         self.airborne[ids] = np.where(down, 0.0, airborne)
+        return landed.any(axis=1) if any_landed else None
 
     def _limb_offsets(self) -> NDArray[np.float64]:
         act = self.actuation
@@ -206,6 +215,14 @@ class Oscillators:
             if limb >= 0:
                 offsets[limb] = act.offsets[a]
         return offsets
+
+    def member_phases(
+        self, gaits: NDArray[np.intp], limbs: NDArray[np.intp], clock: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """As :meth:`phases`, of the actuators of limbs ``limbs`` [members, width] (-1: none) of
+        gaits ``gaits`` [members] (a gait may recur), from their clock [members, steps, width]."""
+        shift = np.where(limbs >= 0, self.shift[gaits[:, None], np.maximum(limbs, 0)], 0.0)
+        return np.mod(clock + shift[:, None, :], 1.0)
 
     def phases(self, ids: NDArray[np.intp], clock: NDArray[np.float64]) -> NDArray[np.float64]:
         """The oscillator phases in [0, 1) [ids, steps, nu] from the unwrapped clock of the same
@@ -216,16 +233,85 @@ class Oscillators:
 
 
 @dataclass(frozen=True, eq=False)
-class _Group:
-    """The gaits (positions in the closed loop's group) whose loops of one curve share a skeleton."""
+class _Samples:
+    """A slot's samples per member [members, n + 1] (phases 0..1 inclusive), and the differences
+    ``samples[:, k + 1] - samples[:, k]`` that interpolation between them adds (0 past the end)."""
 
-    curve: int
-    actuators: NDArray[np.intp]
+    variable: str
+    samples: NDArray[np.float64]
+    deltas: NDArray[np.float64]
+
+    @classmethod
+    def of(cls, variable: str, samples: NDArray[np.float64]) -> _Samples:
+        deltas = np.zeros_like(samples)
+        np.subtract(samples[:, 1:], samples[:, :-1], out=deltas[:, :-1])
+        return cls(variable, samples, deltas)
+
+    def take(self, members: NDArray[np.intp]) -> _Samples:
+        return _Samples(self.variable, self.samples[members], self.deltas[members])
+
+    def at(self, phases: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Each member's samples read at ``phases`` [members, steps, width] in [0, 1), by linear
+        interpolation: ``v + (next - v) * fraction`` of the two samples around each phase."""
+        n = self.samples.shape[1] - 1
+        position = phases * n
+        low = np.minimum(np.floor(position).astype(np.intp), n - 1)
+        fraction = position - low
+        low += (np.arange(len(self.samples)) * (n + 1))[:, None, None]  # flat indices
+        v_low = self.samples.take(low)
+        return v_low + self.deltas.take(low) * fraction
+
+
+@dataclass(frozen=True, eq=False)
+class _Group:
+    """Loops that share a skeleton, whatever their curve: each member is one gait's loop of one
+    curve, driving ``width`` actuators (the curves of a group all drive as many). One skeleton
+    run computes them all, element by element as a run per gait and curve would."""
+
     skeleton: tuple
-    gaits: NDArray[np.intp]
-    constants: NDArray[np.float64]  # [gaits, k]
-    slots: tuple[tuple[str, NDArray[np.float64]], ...]  # per slot: its variable, samples [gaits, n + 1]
-    scale: float  # degrees per unit of the phenotype
+    gaits: NDArray[np.intp]  # per member: its gait (position in the closed loop's group)
+    curves: NDArray[np.intp]  # per member: its curve
+    actuators: NDArray[np.intp]  # [members, width]: the actuators its curve drives
+    constants: NDArray[np.float64]  # [members, k]
+    slots: tuple[_Samples, ...]
+    sensors: frozenset[str]  # the held sensors its skeleton reads
+
+
+@dataclass(frozen=True, eq=False)
+class _Placed:
+    """A group's members among the gaits a tick is asked for (``ids``): index arrays built once
+    per set of gaits, not per tick."""
+
+    group: _Group
+    members: NDArray[np.intp]  # the group's members asked for
+    rows: NDArray[np.intp]  # [members, 1]: each one's position in ``ids``
+    actuators: NDArray[np.intp]  # [members, width]
+    limbs: NDArray[np.intp]  # [members, width]: the limb of each actuator (a per-limb sensor's column)
+    constants: NDArray[np.float64]
+    slots: tuple[_Samples, ...]
+    gaits: NDArray[np.intp]  # [members]: each one's gait (``ids[rows]``)
+
+
+class _Block:
+    """What a closed loop computes ahead for steps ``first..last-1`` of the gaits it is asked for,
+    since no sensor changes it: the open-loop curves' values, the ramp, the unwrapped clock, and
+    the slots of the phase variables (those of an oscillator's phase with the shifts in force,
+    computed again from a landing on for the gaits that landed). A tick reads its steps' share:
+    each element is the value a tick's own computation would give (the operations are element by
+    element)."""
+
+    def __init__(self, first: int, last: int) -> None:
+        self.first, self.last = first, last
+        self.values: NDArray[np.float64] = np.empty(0)
+        self.ramp: NDArray[np.float64] = np.empty(0)
+        self.clock: NDArray[np.float64] = np.empty(0)
+        #: Per placed group, per slot: its values [members, steps, width].
+        self.slots: list[list[NDArray[np.float64]]] = []
+
+
+#: Steps a closed loop computes ahead (:class:`_Block`): a chunk's worth of ticks.
+BLOCK_STEPS = 125
+_ALL = slice(None)
 
 
 class ClosedLoop:
@@ -233,7 +319,12 @@ class ClosedLoop:
 
     ``loops[g][c]`` is gait ``g``'s closed loop of curve ``c`` (``actuation.curves`` order), or
     None where the curve is open loop (played from ``table`` as :class:`OpenLoop` plays it).
-    Every ``tick`` steps the held sensors are read from the last recorded step."""
+    Every ``tick`` steps the held sensors are read from the last recorded step.
+
+    Loops of one skeleton run together whatever their curve. What the held sensors do not change
+    (the open-loop curves, the clock, the slots) is computed for a block of steps ahead, and the
+    index arrays that place each group among the gaits asked for once per set of gaits: per tick
+    remain the sensors, the oscillators and one skeleton run per group."""
 
     def __init__(
         self,
@@ -258,37 +349,132 @@ class ClosedLoop:
         self.tick = tick
         self.sensing = sensing
         self.oscillators = oscillators
-        self.groups = self._groups(loops, scale)
-        self.variables = frozenset(v for group in self.groups for v, _ in group.slots)
+        self.scale = scale
+        self.groups = self._groups(loops)
+        self.variables = frozenset(slot.variable for group in self.groups for slot in group.slots)
+        self._ids: NDArray[np.intp] | None = None
+        self._ids_frequencies: NDArray[np.float64] = frequencies
+        self._open_columns: NDArray[np.intp] | None = None
+        self._placed: list[_Placed] = []
+        self._block: _Block | None = None
 
-    def _groups(self, loops: Sequence[Sequence[Loop | None]], scale: float) -> list[_Group]:
+    def _groups(self, loops: Sequence[Sequence[Loop | None]]) -> list[_Group]:
         act = self.actuation
-        groups: list[_Group] = []
+        actuators = [np.flatnonzero(act.curve_index == c) for c in range(len(act.curves))]
+        members: dict[tuple[tuple, int], list[tuple[int, int]]] = {}
         for c in range(len(act.curves)):
-            by_skeleton: dict[tuple, list[int]] = {}
             for g, per_curve in enumerate(loops):
                 loop = per_curve[c]
                 if loop is not None:
-                    by_skeleton.setdefault(loop.skeleton, []).append(g)
-            for skeleton, members in by_skeleton.items():
-                first = loops[members[0]][c]
-                slots = tuple(
-                    (slot.variable, np.stack([loops[g][c].slots[i].samples for g in members]))  # type: ignore[union-attr]
-                    for i, slot in enumerate(first.slots)  # type: ignore[union-attr]
+                    members.setdefault((loop.skeleton, len(actuators[c])), []).append((g, c))
+        groups: list[_Group] = []
+        for (skeleton, _width), pairs in members.items():
+            found = [loops[g][c] for g, c in pairs]
+            first = found[0]
+            assert first is not None
+            slots = tuple(
+                _Samples.of(slot.variable, np.stack([loop.slots[i].samples for loop in found]))  # type: ignore[union-attr]
+                for i, slot in enumerate(first.slots)
+            )
+            constants = np.array([loop.constants for loop in found], dtype=np.float64)  # type: ignore[union-attr]
+            groups.append(
+                _Group(
+                    skeleton,
+                    np.array([g for g, _ in pairs], dtype=np.intp),
+                    np.array([c for _, c in pairs], dtype=np.intp),
+                    np.array([actuators[c] for _, c in pairs], dtype=np.intp),
+                    constants.reshape(len(pairs), -1),
+                    slots,
+                    frozenset(step[1] for step in skeleton if step[0] == "sensor"),
                 )
-                constants = np.array([loops[g][c].constants for g in members], dtype=np.float64)  # type: ignore[union-attr]
-                groups.append(
-                    _Group(
-                        c,
-                        np.flatnonzero(act.curve_index == c),
-                        skeleton,
-                        np.asarray(members, dtype=np.intp),
-                        constants.reshape(len(members), -1),
-                        slots,
-                        scale,
-                    )
-                )
+            )
         return groups
+
+    def _place(self, ids: NDArray[np.intp]) -> None:
+        """The groups placed among the gaits ``ids`` (the same until a gait drops out)."""
+        position = np.full(len(self.frequencies), -1)
+        position[ids] = np.arange(len(ids))
+        limb = self.actuation.limb_index
+        placed = []
+        for group in self.groups:
+            rows = position[group.gaits]
+            members = np.flatnonzero(rows >= 0)
+            if not len(members):
+                continue
+            acts = group.actuators[members]
+            placed.append(
+                _Placed(
+                    group,
+                    members,
+                    rows[members][:, None],
+                    acts,
+                    limb[acts],
+                    group.constants[members],
+                    tuple(slot.take(members) for slot in group.slots),
+                    ids[rows[members]],
+                )
+            )
+        self._ids, self._placed, self._block = ids.copy(), placed, None
+        self._ids_frequencies = self.frequencies[ids]
+        # The actuators some gait plays open loop: only theirs are read from the table.
+        covered = np.zeros(self.actuation.nu, dtype=np.intp)
+        for where in placed:
+            covered += np.bincount(where.actuators.ravel(), minlength=self.actuation.nu)
+        opened = np.flatnonzero(covered < len(ids))
+        self._open_columns = None if len(opened) == self.actuation.nu else opened
+
+    def _ahead(self, ids: NDArray[np.intp], first: int) -> _Block:
+        """Compute what the held sensors do not change for the steps from ``first`` on."""
+        block = _Block(first, first + max(BLOCK_STEPS, self.tick))
+        frequencies = self._ids_frequencies
+        table = self.table if len(ids) == len(self.table) else self.table[ids]
+        own = frequencies if self.own_frequencies else None
+        columns = self._open_columns
+        if columns is None:
+            block.values = self.open_loop.values(table, self.samples, block.first, block.last, own)
+        else:  # the others are the loops' alone
+            block.values = np.zeros((len(ids), block.last - block.first, self.actuation.nu))
+            block.values[:, :, columns] = self.open_loop.values(
+                table, self.samples, block.first, block.last, own, columns
+            )
+        block.ramp = self.actuation.ramp(block.first, block.last)
+        if self.variables:
+            block.clock = self.actuation.clock(block.first, block.last, frequencies)
+        for placed in self._placed:
+            clock = _gather(block.clock, placed) if placed.slots else None
+            block.slots.append([slot.at(self._phases(slot.variable, placed, clock)) for slot in placed.slots])
+        return block
+
+    def _phases(
+        self,
+        variable: str,
+        placed: _Placed,
+        clock: NDArray[np.float64] | None,
+        members: slice | NDArray[np.intp] = _ALL,
+    ) -> NDArray[np.float64]:
+        """The phase variable ``variable`` of a placed group's ``members`` [members, steps, width]
+        from their unwrapped clock: ``t`` the clock's phase, ``phase`` their limb's oscillator."""
+        assert clock is not None
+        if variable == "t":
+            return np.mod(clock, 1.0)
+        assert self.oscillators is not None
+        return self.oscillators.member_phases(placed.gaits[members], placed.limbs[members], clock)
+
+    def _landed(self, block: _Block, first: int, landed: NDArray[np.bool_]) -> None:
+        """The oscillator's slots of the gaits that ``landed`` (positions in the ids asked for) at
+        step ``first``, computed again for the rest of the block with their new shifts."""
+        rest = slice(first - block.first, None)
+        for placed, slots in zip(self._placed, block.slots, strict=True):
+            if all(slot.variable != "phase" for slot in placed.slots):
+                continue
+            members = np.flatnonzero(landed[placed.rows[:, 0]])
+            if not len(members):
+                continue
+            clock = block.clock[placed.rows[members], rest, placed.actuators[members]].transpose(0, 2, 1)
+            for slot, values in zip(placed.slots, slots, strict=True):
+                if slot.variable == "phase":
+                    phases = self._phases("phase", placed, clock, members)
+                    values[members, rest] = slot.take(members).at(phases)
 
     def controls(
         self,
@@ -301,58 +487,49 @@ class ClosedLoop:
         """Controls [ids, last - first, nu] for steps ``first..last-1`` (one tick at most) of the
         gaits ``ids``, from the state [ids, nstate] and sensors [ids, nsensordata] recorded at the
         step before ``first``; and the gaits (positions in ``ids``) whose controls are not finite."""
-        frequencies = self.frequencies[ids]
-        values = self.open_loop.values(
-            self.table[ids], self.samples, first, last, frequencies if self.own_frequencies else None
-        )
+        if self._ids is None or not np.array_equal(ids, self._ids):
+            self._place(ids)
+        landed = None
+        if self.oscillators is not None and first % self.tick == 0:  # a tick's first part (a chunk's
+            # end may cut a tick in two)
+            landed = self.oscillators.tick(ids, first, sensordata, self._ids_frequencies)
+        block = self._block
+        if block is None or not block.first <= first < last <= block.last:
+            block = self._block = self._ahead(ids, first)
+        elif landed is not None:
+            self._landed(block, first, landed)
+        steps = slice(first - block.first, last - block.first)
+        values = block.values[:, steps].copy()
         readings = self.sensing.read(state, sensordata) if self.sensing is not None else {}
-        clock = self.actuation.clock(first, last, frequencies) if self.variables else None
-        phases: dict[str, NDArray[np.float64]] = {}
-        if "t" in self.variables:
-            phases["t"] = np.mod(clock, 1.0)  # type: ignore[arg-type]
-        if self.oscillators is not None:
-            if first % self.tick == 0:  # the tick's first part (a chunk's end may cut a tick in two)
-                self.oscillators.tick(ids, first, sensordata, frequencies)
-            phases["phase"] = self.oscillators.phases(ids, clock)  # type: ignore[arg-type]
-        position = np.full(len(self.frequencies), -1)
-        position[ids] = np.arange(len(ids))
-        failures: Failures = {}
-        limb = self.actuation.limb_index
-        for group in self.groups:
-            rows = position[group.gaits]
-            keep = rows >= 0
-            if not keep.any():
-                continue
-            rows = rows[keep]
-            acts = group.actuators
-            slot_values = [
-                _interpolate(samples[keep], phases[variable][rows][:, :, acts])
-                for variable, samples in group.slots
-            ]
-            held = {
-                name: (value[rows][:, limb[acts]] if value.ndim == 2 else value[rows][:, None])[:, None, :]
-                for name, value in readings.items()
-            }
-            result = run_skeleton(group.skeleton, group.constants[keep], slot_values, held)
-            result = np.broadcast_to(result, (len(rows), last - first, len(acts)))
-            if group.scale != 1.0:
-                result = result * group.scale
-            finite = np.isfinite(result).all(axis=(1, 2))
-            for r in rows[~finite]:
-                failures.setdefault(int(r), self.actuation.curves[group.curve])
-            values[np.ix_(rows, np.arange(last - first), acts)] = np.radians(
-                np.where(np.isfinite(result), result, 0.0)
+        failed: dict[int, int] = {}  # per gait (position in ids): the first curve not finite
+        for placed, slots in zip(self._placed, block.slots, strict=True):
+            group = placed.group
+            held = {name: _held(readings[name], placed) for name in group.sensors}
+            result = run_skeleton(
+                group.skeleton, placed.constants, [values_t[:, steps] for values_t in slots], held
             )
-        return self.actuation.finish(values, first, last), failures
+            result = np.broadcast_to(result, (len(placed.members), last - first, placed.actuators.shape[1]))
+            if self.scale != 1.0:
+                result = result * self.scale
+            finite = np.isfinite(result)
+            if not finite.all():
+                for member in np.flatnonzero(~finite.all(axis=(1, 2))):
+                    row, curve = int(placed.rows[member, 0]), int(group.curves[placed.members[member]])
+                    failed[row] = min(curve, failed.get(row, curve))
+                result = np.where(finite, result, 0.0)
+            values[placed.rows, :, placed.actuators] = np.radians(result).transpose(0, 2, 1)
+        failures: Failures = {row: self.actuation.curves[curve] for row, curve in failed.items()}
+        return self.actuation.finish(values, first, last, block.ramp[steps]), failures
 
 
-def _interpolate(samples: NDArray[np.float64], phases: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Per gait, its slot's samples [gaits, n + 1] (phases 0..1 inclusive) read at ``phases``
-    [gaits, steps, actuators] in [0, 1), by linear interpolation."""
-    n = samples.shape[1] - 1
-    position = phases * n
-    low = np.minimum(np.floor(position).astype(np.intp), n - 1)
-    fraction = position - low
-    rows = np.arange(len(samples))[:, None, None]
-    v_low = samples[rows, low]
-    return v_low + (samples[rows, low + 1] - v_low) * fraction
+def _gather(values: NDArray[np.float64], placed: _Placed) -> NDArray[np.float64]:
+    """Each member's actuators' share of values [ids, steps, nu]: [members, steps, width]."""
+    return values[placed.rows, :, placed.actuators].transpose(0, 2, 1)
+
+
+def _held(value: NDArray[np.float64], placed: _Placed) -> NDArray[np.float64]:
+    """A held sensor's reading [ids] (a body's) or [ids, limbs] (per limb) for each member's
+    actuators, broadcastable against [members, steps, width]."""
+    if value.ndim == 2:
+        return value[placed.rows, placed.limbs][:, None, :]
+    return value[placed.rows][:, None, :]

@@ -33,6 +33,8 @@ __all__ = ["STATE_SPEC", "BatchRollout", "Controller", "Forces", "Observer"]
 #: Full physics state (time, qpos, qvel, act, ...): what rollouts start from and record.
 STATE_SPEC = mujoco.mjtState.mjSTATE_FULLPHYSICS
 _RECORD = int(STATE_SPEC)
+_CTRL = int(mujoco.mjtState.mjSTATE_CTRL)
+_CTRL_AND_FORCES = _CTRL | int(mujoco.mjtState.mjSTATE_XFRC_APPLIED)
 
 
 class Controller(Protocol):
@@ -172,16 +174,18 @@ class BatchRollout:
             # Ticks at whole multiples of ``tick`` from step 0, whatever the chunks: a closed loop
             # reads the same steps however its simulation is cut.
             tick = controller.tick or self.chunk_steps
+            # What the next tick reads: the chunk's gaits' rows, then views of the chunk's records.
+            read_state, read_sensors = last_state[alive], last_sensors[alive]
             start = first
             while start < last:
                 stop = min((start // tick + 1) * tick, last)
-                held, failed = controller.controls(alive, start, stop, last_state[alive], last_sensors[alive])
+                held, failed = controller.controls(alive, start, stop, read_state, read_sensors)
                 for position, what in failed.items():
                     failures.setdefault(position, (start, what))
-                inputs, spec = held, int(mujoco.mjtState.mjSTATE_CTRL)
+                inputs, spec = held, _CTRL
                 if forces is not None:
                     inputs = np.concatenate([held, forces(alive, start, stop)], axis=2)
-                    spec |= int(mujoco.mjtState.mjSTATE_XFRC_APPLIED)
+                    spec = _CTRL_AND_FORCES
                 if stop - start == last - first:  # the whole chunk at once: record in place
                     out = {_RECORD: state, "sensordata": sensors}
                 else:
@@ -206,9 +210,10 @@ class BatchRollout:
                     sensors[:, start - first : stop - first] = out["sensordata"]
                 control[:, start - first : stop - first] = held
                 if controller.tick is not None and stop % tick == 0:  # a tick's end: the next reads here
-                    last_state[alive] = state[:, stop - first - 1]
-                    last_sensors[alive] = sensors[:, stop - first - 1]
+                    read_state, read_sensors = state[:, stop - first - 1], sensors[:, stop - first - 1]
                 start = stop
+            if controller.tick is not None:  # the chunk's records are reused: keep what the next reads
+                last_state[alive], last_sensors[alive] = read_state, read_sensors
             self.simulated_steps += len(alive) * (last - first)
             failed_now = observe(alive, first, state, sensors, control, sim.warning[alive], errors, failures)
             alive = alive[~failed_now & (ends[alive] > last)]

@@ -34,7 +34,7 @@ class SensingError(ValueError):
 
 def pitch_degrees(quat: NDArray[np.float64]) -> NDArray[np.float64]:
     """Pitch (nose up positive, degrees) of (w, x, y, z) quaternions [..., 4]."""
-    w, x, y, z = np.moveaxis(quat, -1, 0)
+    w, x, y, z = quat[..., 0], quat[..., 1], quat[..., 2], quat[..., 3]  # read at every control tick
     with np.errstate(all="ignore"):
         return -np.degrees(np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0)))
 
