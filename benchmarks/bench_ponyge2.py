@@ -22,7 +22,8 @@ PonyGE2 is not part of gaitgram (GPL-3.0) and is never committed. To run this be
 (PonyGE2 uses ``np.NaN``, gone in numpy 2, hence its own interpreter; ``GAITGRAM_PONYGE2`` and
 ``GAITGRAM_PONYGE2_PYTHON`` may name the two instead.) ``--runs N`` scales down; ``--out FILE``
 appends each finished run as a JSON line and skips the runs already there, so an interrupted record
-resumes; ``--problems`` picks problems. The record: docs/results/ponyge2/.
+resumes; ``--problems`` picks problems; ``--ponyge2-args=--invalid_selection`` adds PonyGE2 parameters
+after the shared ones (an ablation). The record: docs/results/ponyge2/.
 """
 
 from __future__ import annotations
@@ -141,10 +142,13 @@ def gaitgram_config(problem: Problem, ponyge2: Path, runs: int) -> Any:
 # ---- the runs -----------------------------------------------------------------------------------
 
 
-def run_ponyge2(problem: Problem, run: int, ponyge2: Path, python: str) -> dict[str, Any]:
-    """One PonyGE2 run, in a process of its own (PonyGE2 keeps its state in module globals)."""
+def run_ponyge2(
+    problem: Problem, run: int, ponyge2: Path, python: str, extra: tuple[str, ...] = ()
+) -> dict[str, Any]:
+    """One PonyGE2 run, in a process of its own (PonyGE2 keeps its state in module globals);
+    ``extra`` parameters after the shared ones (an ablation: ``--invalid_selection``)."""
     done = subprocess.run(
-        [python, str(DRIVER), *ponyge2_arguments(problem, run)],
+        [python, str(DRIVER), *ponyge2_arguments(problem, run), *extra],
         cwd=ponyge2 / "src",
         capture_output=True,
         text=True,
@@ -248,7 +252,7 @@ def plan(problems: list[str], runs: int) -> Iterator[tuple[str, int, str]]:
 
 
 def execute(
-    problems: list[str], runs: int, ponyge2: Path, python: str, out: Path | None
+    problems: list[str], runs: int, ponyge2: Path, python: str, out: Path | None, extra: tuple[str, ...] = ()
 ) -> list[dict[str, Any]]:
     found = records(out)
     have = {(r["problem"], r["run"], r["tool"]) for r in found}
@@ -257,7 +261,7 @@ def execute(
             continue
         problem = PROBLEMS[name]
         if tool == "ponyge2":
-            result = run_ponyge2(problem, run, ponyge2, python)
+            result = run_ponyge2(problem, run, ponyge2, python, extra)
         else:
             result = run_gaitgram(problem, run, runs, ponyge2)
         record = {"problem": name, "tool": tool, "run": run, **result}
@@ -356,6 +360,11 @@ def main(argv: list[str] | None = None) -> None:
     )
     parser.add_argument("--out", type=Path, help="JSON lines of finished runs: appended, and resumed from")
     parser.add_argument("--summary", type=Path, help="write the summary as JSON here")
+    parser.add_argument(
+        "--ponyge2-args",
+        default="",
+        help='more PonyGE2 parameters after the shared ones, for an ablation ("--invalid_selection")',
+    )
     args = parser.parse_args(argv or [])
     problems = [p.strip() for p in args.problems.split(",") if p.strip()]
     wrong = [p for p in problems if p not in PROBLEMS]
@@ -366,7 +375,7 @@ def main(argv: list[str] | None = None) -> None:
     except Refused as refusal:
         print(f"bench_ponyge2: {refusal}", file=sys.stderr)
         raise SystemExit(2) from None
-    found = execute(problems, args.runs, ponyge2, python, args.out)
+    found = execute(problems, args.runs, ponyge2, python, args.out, tuple(args.ponyge2_args.split()))
     table = summary(found, problems)
     show(table)
     if args.summary is not None:
