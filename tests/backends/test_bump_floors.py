@@ -12,6 +12,7 @@ import pytest
 from study.report_fixtures import write_hand_made_study
 from typer.testing import CliRunner
 
+from benchmarks._populations import generation_zero
 from gaitgram.backends.api import Evaluation, GaitStatus, SettingsError
 from gaitgram.backends.mujoco_horse import BACKEND, check_settings
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator, on_floors
@@ -121,3 +122,31 @@ def test_a_run_scored_on_floors_is_not_compared_with_one_scored_on_the_flat(tmp_
         app, ["report", str(study / "arms" / "alpha"), "--mixed-scoring", "-o", str(tmp_path / "a")]
     )
     assert "Scored differently" not in flat.stdout  # one scoring: nothing to say
+
+
+def test_a_gait_that_fails_on_a_floor_is_not_played_on_the_floors_after_it() -> None:
+    """Its evaluation is that failure's whatever the later floors say, so they are spared: the
+    same evaluations as every floor scoring every gait that stood, fewer steps."""
+    seeds = (0, 1, 2)
+    batch = generation_zero("free.gg", 40).take([3, 8, 27, 0, 1, 2, 4, 5, 6, 7])
+    flat = HorseEvaluator(HorseSettings())
+    apart = [HorseEvaluator(HorseSettings(), model=bumpy_model(None, seed)) for seed in seeds]
+    on_flat = flat.evaluate(batch)
+    standing = [g for g, evaluation in enumerate(on_flat) if evaluation.status.viable]
+    every = [dict(zip(standing, floor.evaluate(batch.take(standing)), strict=True)) for floor in apart]
+    assert not every[0][0].status.viable  # the first gait fails on the first floor
+    expected = [
+        on_floors(on_flat[g], [found[g] for found in every], seeds) if g in standing else on_flat[g]
+        for g in range(len(batch))
+    ]
+    scored = HorseEvaluator(HorseSettings(bump_floors=seeds))
+    assert [e.as_record() for e in scored.evaluate(batch)] == [e.as_record() for e in expected]
+    # Steps: the flat's, then each floor's on the gaits that stood on the flat and every floor before.
+    steps = flat.simulated_steps
+    for floor, found in zip(apart, every, strict=True):
+        floor.simulated_steps = 0
+        floor.evaluate(batch.take(standing))
+        steps += floor.simulated_steps
+        standing = [g for g in standing if found[g].status.viable]
+    assert scored.simulated_steps == steps
+    scored.close()

@@ -440,19 +440,23 @@ class HorseEvaluator:
     ) -> list[Evaluation]:
         """``flat``, the evaluations of ``rows`` on the flat floor, with the gaits that stood also
         scored on each bump floor (over their warm-up and scored cycles, whatever ``flat`` checked):
-        :func:`on_floors`."""
+        :func:`on_floors`. A gait that fails on a floor is not played on the floors after it: its
+        evaluation is that failure's whatever they would say."""
         standing = [k for k, evaluation in enumerate(flat) if evaluation.status.viable]
-        if not standing:
-            return flat
         seeds = [seed for seed, _ in self.floors]
-        per_floor = []
+        bumpy: dict[int, list[Evaluation]] = {k: [] for k in standing}
         for _, floor in self.floors:
-            per_floor.append(floor.evaluate_rows(batch, rows[standing], weights))
+            if not standing:
+                break
+            played = floor.evaluate_rows(batch, rows[standing], weights)
+            for k, evaluation in zip(standing, played, strict=True):
+                bumpy[k].append(evaluation)
             self.simulated_steps += floor.simulated_steps
             floor.simulated_steps = 0
+            standing = [k for k in standing if bumpy[k][-1].status.viable]
         combined = list(flat)
-        for k, bumpy in zip(standing, zip(*per_floor, strict=True), strict=True):
-            combined[k] = on_floors(flat[k], bumpy, seeds)
+        for k, found in bumpy.items():
+            combined[k] = on_floors(flat[k], found, seeds[: len(found)])
         return combined
 
     def evaluate_rows(
