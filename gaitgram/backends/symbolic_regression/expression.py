@@ -60,7 +60,8 @@ FUNCTIONS: dict[str, tuple[int, Callable[..., Any]]] = {
     "np.exp": (1, np.exp),
 }
 
-_OPERATORS: dict[str, Callable[[Any, Any], Any]] = {"+": operator.add, "-": operator.sub, "*": operator.mul}
+#: Python's additive operators (left associative, below ``*``).
+_ADDITIVE: dict[str, Callable[[Any, Any], Any]] = {"+": operator.add, "-": operator.sub}
 
 _TOKEN = re.compile(
     r"\s*(?:"
@@ -97,20 +98,26 @@ def compile_expression(text: str) -> Expression:
     Raises :class:`ExpressionError` for text outside the subset."""
     parser = _Parser(text)
     node = parser.expression()
-    if parser.peek() is not None:
+    if not parser.at_end():
         parser.fail(f"unexpected {parser.shown()!r}")
     return Expression(text, tuple(sorted(parser.inputs)), node)
 
 
 class _Parser:
-    """Recursive descent over Python's precedence for the subset: sums of products of unary terms."""
+    """Recursive descent over Python's precedence for the subset: sums of products of unary terms.
+
+    Tokens are parallel lists: ``keys[k]`` is the symbol itself (``+``, ``(``...) or the kind of
+    token (``number``, ``input``, ``name``), closed by an ``end`` key; ``values[k]`` its text (an
+    input's index), ``spans[k]`` where the text spells it."""
 
     def __init__(self, text: str) -> None:
         self.text = text
-        self.tokens: list[tuple[str, str, int, int]] = []  # (kind, value, start, end)
+        self.keys: list[str] = []
+        self.values: list[str] = []
+        self.spans: list[tuple[int, int]] = []
         self.inputs: set[int] = set()
-        position = 0
-        while text[position:].strip():
+        position, stop = 0, len(text.rstrip())
+        while position < stop:
             match = _TOKEN.match(text, position)
             if match is None:
                 offset = len(text) - len(text[position:].lstrip())
@@ -118,73 +125,73 @@ class _Parser:
             kind = match.lastgroup  # the outer group: number, input, name or symbol
             assert kind is not None
             value = match.group("index") if kind == "input" else match.group(kind)
-            self.tokens.append((kind, value, match.start(kind), match.end(kind)))
+            self.keys.append(value if kind == "symbol" else kind)
+            self.values.append(value)
+            self.spans.append(match.span(kind))
             position = match.end()
+        self.keys.append("end")
+        self.spans.append((len(text), len(text)))
         self.at = 0
 
-    def peek(self) -> str | None:
-        return self.tokens[self.at][1] if self.at < len(self.tokens) else None
+    def at_end(self) -> bool:
+        return self.keys[self.at] == "end"
 
     def shown(self) -> str:
         """The current token as the text spells it."""
-        _, _, start, end = self.tokens[self.at]
+        start, end = self.spans[self.at]
         return self.text[start:end]
 
     def fail(self, message: str) -> None:
-        offset = self.tokens[self.at][2] if self.at < len(self.tokens) else len(self.text)
-        raise ExpressionError(f"column {offset + 1}: {message} in {self.text!r}")
+        raise ExpressionError(f"column {self.spans[self.at][0] + 1}: {message} in {self.text!r}")
 
     def take(self, symbol: str) -> None:
-        if self.peek() != symbol or self.tokens[self.at][0] != "symbol":
-            found = "the end" if self.peek() is None else repr(self.shown())
+        if self.keys[self.at] != symbol:
+            found = "the end" if self.at_end() else repr(self.shown())
             self.fail(f"expected {symbol!r}, found {found}")
         self.at += 1
 
     def expression(self) -> Node:
         node = self.product()
-        while self.at < len(self.tokens) and self.tokens[self.at][:2] in (("symbol", "+"), ("symbol", "-")):
-            node = _binary(_OPERATORS[self.tokens[self.at][1]], node, self._next(self.product))
+        while (apply := _ADDITIVE.get(self.keys[self.at])) is not None:
+            self.at += 1
+            node = _binary(apply, node, self.product())
         return node
 
     def product(self) -> Node:
         node = self.unary()
-        while self.at < len(self.tokens) and self.tokens[self.at][:2] == ("symbol", "*"):
-            node = _binary(operator.mul, node, self._next(self.unary))
+        while self.keys[self.at] == "*":
+            self.at += 1
+            node = _binary(operator.mul, node, self.unary())
         return node
 
-    def _next(self, parse: Callable[[], Node]) -> Node:
-        self.at += 1
-        return parse()
-
     def unary(self) -> Node:
-        if self.at < len(self.tokens) and self.tokens[self.at][:2] == ("symbol", "-"):
-            operand = self._next(self.unary)
+        if self.keys[self.at] == "-":
+            self.at += 1
+            operand = self.unary()
             return lambda columns: -operand(columns)
         return self.atom()
 
     def atom(self) -> Node:
-        if self.at == len(self.tokens):
-            self.fail("the expression ends too early")
-        kind, text, _, _ = self.tokens[self.at]
-        if kind == "number":
+        key, text = self.keys[self.at], self.values[self.at] if not self.at_end() else ""
+        if key == "number":
             if "." not in text and len(text) > 1 and text.startswith("0"):
                 self.fail(f"{text} is not a Python number (leading zeros)")
             self.at += 1
             value = float(text) if "." in text else int(text)
             return lambda columns: value
-        if kind == "input":
+        if key == "input":
             self.at += 1
             index = int(text)
             self.inputs.add(index)
             return lambda columns: columns[index]
-        if kind == "name":
+        if key == "name":
             return self.call(text)
-        if text == "(":
+        if key == "(":
             self.at += 1
             node = self.expression()
             self.take(")")
             return node
-        self.fail(f"unexpected {self.shown()!r}")
+        self.fail("the expression ends too early" if key == "end" else f"unexpected {self.shown()!r}")
         raise AssertionError  # fail raised
 
     def call(self, name: str) -> Node:
@@ -195,7 +202,7 @@ class _Parser:
         self.at += 1
         self.take("(")
         arguments = [self.expression()]
-        while self.peek() == "," and self.tokens[self.at][0] == "symbol":
+        while self.keys[self.at] == ",":
             self.at += 1
             arguments.append(self.expression())
         self.take(")")
