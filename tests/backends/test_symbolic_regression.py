@@ -158,6 +158,19 @@ def test_a_bad_phenotype_is_a_status() -> None:
     assert constant.fitness == float(np.sqrt(np.mean(np.square(y - 12.34))))
 
 
+@pytest.mark.parametrize(
+    ("metric", "formula"),
+    [("mse", lambda e: np.mean(np.square(e))), ("mae", lambda e: np.mean(np.abs(e)))],
+)
+def test_the_metrics_ponyge2s_parameter_files_may_name(metric: str, formula: Any) -> None:
+    evaluator = load({"dataset": "keijzer-6", "metric": metric})
+    y = np.array(evaluator.dataset.train.rows)[:, -1]
+    evaluation = evaluator.score("x[:, 0]*00.10")
+    x = np.array(evaluator.dataset.train.rows)[:, 0]
+    assert evaluation.fitness == float(formula(y - x * 0.1))
+    assert evaluation.components == {metric: evaluation.fitness}
+
+
 def test_reads_ponyge2s_file_format(tmp_path: Path) -> None:
     table = read_table(DATA / "five_inputs" / "Train.txt")
     assert (len(table.rows), table.n_inputs) == (243, 5)

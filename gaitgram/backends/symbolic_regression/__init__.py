@@ -54,7 +54,7 @@ def check_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
     if name is not None:
         if "train" in settings or "test" in settings:
             raise SettingsError("dataset", "give a built dataset or train (and test) files, not both")
-        if name not in BUILT:
+        if not isinstance(name, str) or name not in BUILT:
             close = difflib.get_close_matches(str(name), list(BUILT), n=1)
             hint = f"did you mean {close[0]}? " if close else ""
             raise SettingsError(
