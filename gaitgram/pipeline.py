@@ -45,6 +45,7 @@ from gaitgram.backends.registry import (
     BackendLoadError,
     BackendNotFound,
     BackendSpec,
+    backends_that,
     get_backend,
 )
 from gaitgram.evolution.config import RunConfig
@@ -288,6 +289,30 @@ class Pipeline:
         except (ValueError, TypeError, ImportError, LookupError) as error:
             raise PipelineError(f"backend {self.backend!r}: {error}") from None
 
+    def render(
+        self,
+        batch: MotionBatch,
+        *,
+        settings: Mapping[str, Any] | None = None,
+        cycles: int | None = None,
+        fps: int = 25,
+        width: int = 480,
+        height: int = 360,
+    ) -> list[list[Any]]:
+        """Each gait of ``batch`` (every one playable) drawn by the backend's render hook as it is
+        scored: a list of RGB frames per gait. ``settings`` play it under other backend settings
+        than the run's (another body's, from ``retarget``). The hook's
+        :class:`~gaitgram.animation.RenderError` (no offscreen OpenGL) passes through."""
+        if self.spec.render is None:
+            raise PipelineError(f"backend {self.backend!r} draws no gaits")
+        played = self.config.backend_settings if settings is None else settings
+        try:
+            return self.spec.render(played, batch, cycles=cycles, fps=fps, width=width, height=height)
+        except SettingsError as error:
+            raise settings_error("backend_settings", error) from None
+        except (ValueError, TypeError, ImportError, LookupError) as error:
+            raise PipelineError(f"backend {self.backend!r}: {error}") from None
+
 
 def honest(evaluation: Evaluation, unviable: float = WORST_FITNESS) -> Evaluation:
     """An evaluation that says ``ok`` only if everything it measured is a finite number; one that
@@ -388,7 +413,7 @@ def _check_frequency(grammar: Grammar, spec: BackendSpec) -> None:
         raise PipelineError(
             f"backend {spec.name!r} imposes the cycle frequency, so the grammar's @frequency rule "
             f"<{decl.rule}> would change nothing; remove it, or use a backend that plays evolved "
-            "frequencies (mujoco-horse)"
+            f"frequencies ({', '.join(backends_that(lambda spec: spec.cycle_frequencies is not None))})"
         )
     low, high = spec.cycle_frequencies
     if decl.limits is not None and not (low <= decl.limits[0] and decl.limits[1] <= high):

@@ -204,3 +204,84 @@ def test_the_checker_sees_what_it_should(tmp_path: Path) -> None:
     }
     assert find_cycle(graph) == ["pkg.sub.low", "pkg.top", "pkg.middle", "pkg.sub.low"]
     assert find_cycle({"a": {"b": 1}, "b": {}, "c": {"a": 1, "b": 1}}) is None
+
+
+#: The backends whose names no module above the backends' floor may import or spell: generic layers
+#: reach a backend through what its ``BackendSpec`` declares (docs/architecture.md).
+NAMED_BACKENDS = {"gaitgram.backends.mujoco_horse": "mujoco-horse"}
+#: The one place above the backends that may spell a built-in backend's name: the backend of a
+#: grammar and a config that name none (an assignment ``MODULE.NAME = "..."``).
+DEFAULTS = {("gaitgram.pipeline", "DEFAULT_BACKEND")}
+
+
+def _docstrings(tree: ast.Module) -> set[int]:
+    """The ids of the string constants that are docstrings (of the module, a class, a function)."""
+    found = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef):
+            first = node.body[0] if node.body else None
+            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant):
+                found.add(id(first.value))
+    return found
+
+
+def spelt_names(module: str, tree: ast.Module, names: set[str]) -> list[tuple[str, int]]:
+    """Each of ``names`` spelt in a string of the module other than a docstring or a declared
+    default (:data:`DEFAULTS`), with its line: f-strings' literal parts count."""
+    allowed = set(map(id, (node.value for node in ast.walk(tree) if _a_default(module, node))))
+    skipped = _docstrings(tree) | allowed
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in skipped:
+            found += [(name, node.lineno) for name in sorted(names) if name in node.value]
+    return found
+
+
+def _a_default(module: str, node: ast.AST) -> bool:
+    if not isinstance(node, ast.Assign | ast.AnnAssign) or node.value is None:
+        return False
+    targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+    return any(isinstance(t, ast.Name) and (module, t.id) in DEFAULTS for t in targets)
+
+
+def _above_the_backends(module: str, patterns: list[tuple[str, str]], names: list[str]) -> bool:
+    floor = floor_of(module, patterns)
+    return floor is not None and names.index(floor) > names.index("backends")
+
+
+def test_no_floor_above_the_backends_names_a_backend(graph: dict[str, dict[str, int]]) -> None:
+    """Above the backends, a backend is reached through its spec's declared hooks and values
+    (render, assess, assessment, catalogue, cycle_frequency), never by importing its modules or
+    comparing with its name: a plug-in declaring the same hooks is drawn and assessed alike."""
+    names, patterns = floors()
+    modules = module_files()
+    above = [m for m in sorted(graph) if _above_the_backends(m, patterns, names)]
+    assert {"gaitgram.study.gallery", "gaitgram.cli.render", "gaitgram.seed.grammars"} <= set(above)
+    imports = [
+        _where(graph, source, target)
+        for source in above
+        for target in sorted(graph[source])
+        if any(target == name or target.startswith(f"{name}.") for name in NAMED_BACKENDS)
+    ]
+    assert not imports, "modules above the backends import a backend's own modules:\n" + "\n".join(imports)
+    spelt = [
+        f"{source} ({modules[source].relative_to(ROOT)}:{line}) spells {name!r}"
+        for source in above
+        for name, line in spelt_names(
+            source, ast.parse(modules[source].read_text()), set(NAMED_BACKENDS.values())
+        )
+    ]
+    assert not spelt, "modules above the backends name a backend:\n" + "\n".join(spelt)
+
+
+def test_the_name_check_sees_strings_but_not_docstrings() -> None:
+    tree = ast.parse(
+        '"""The mujoco-horse backend."""\n'
+        'DEFAULT_BACKEND = "mujoco-horse"\n'
+        "def f(backend):\n"
+        '    """Only mujoco-horse."""\n'
+        '    return backend == "mujoco-horse" or f"{backend} is not mujoco-horse"\n'
+    )
+    spelt = spelt_names("gaitgram.pipeline", tree, {"mujoco-horse"})
+    assert spelt == [("mujoco-horse", 5), ("mujoco-horse", 5)]
+    assert len(spelt_names("gaitgram.study.gallery", tree, {"mujoco-horse"})) == 3  # no default there

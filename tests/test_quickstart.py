@@ -45,14 +45,13 @@ def test_the_quickstarts_best_gait_stays_up_over_the_horizon(tmp_path: Path) -> 
     best = state.best.evaluation
     assert best.status.viable, best.detail
     assert best.components["checked_cycles"] == 20.0  # upright for the whole horizon
-    # What `render` plays: the warm-up and scored cycles of the same controls; the trunk stays up
+    # What `render` plays: the warm-up and scored cycles, through the control loop; the trunk stays up
     # (over 90 % of its standing height, within 30 degrees of level) in every step, so in every frame.
     pipeline = directory.pipeline
     evaluator = pipeline.load_evaluator()
     try:
         batch = pipeline.motion(pipeline.map([state.best.genome]), state.generation)
-        control = evaluator.controls(batch, np.array([0]))
-        states, sensors = evaluator.simulate(control)
+        states, sensors, control = evaluator.play(batch, np.array([0]))
         frequencies = evaluator.frequencies(batch, np.array([0]))
         (recording,) = evaluator.recordings(states, sensors, control, frequencies)
     finally:

@@ -117,6 +117,55 @@ class Verdict:
         return tuple(term for term in self.terms if evaluation.components.get(term, 0.0) < 0.5)
 
 
+@dataclass(frozen=True)
+class ReferenceMeasure:
+    """One row of a report's realism table: a measure an assessment keeps (``key``: its name in the
+    kept ``measures``, or ``CURVE_max`` / ``CURVE_min``, the extreme of a kept curve) as people
+    read it (``label``), beside the reference's value (None: the reference does not measure it)
+    and what that value is (its spread, or why there is none)."""
+
+    key: str
+    label: str
+    value: float | None
+    spread: str
+
+
+@dataclass(frozen=True)
+class ReferenceCurve:
+    """A curve an assessment keeps over one cycle, its title in figures, and the reference's mean
+    and SD at as many evenly spaced phases."""
+
+    name: str
+    title: str
+    mean: tuple[float, ...]
+    sd: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class Assessment:
+    """What a backend's ``assess`` keeps of each gait, declared (``BackendSpec.assessment``) so
+    that a report reads it as data, without knowing the backend.
+
+    A kept assessment's ``realism`` holds ``measures`` (named numbers), ``scores`` (one per name
+    of ``scored``: how far the gait is from the reference in that measure, in its spread), their
+    mean ``distance``, and ``curves`` (one per :class:`ReferenceCurve`); its ``trials`` and
+    ``graded`` rungs say what each disturbance did. The report's realism section is titled
+    ``title`` and opens with ``text`` (what the reference is, how the gaits are measured, what
+    the distance means; Markdown); ``measures`` are its table's rows and ``figure`` titles the
+    figure of the curves on the reference's band. A trial's ``detail`` lists, comma-separated
+    after ``failed_terms``, the verdict's terms a gait failed under it (empty: details are not
+    counted).
+    """
+
+    title: str
+    text: str
+    measures: tuple[ReferenceMeasure, ...]
+    scored: tuple[str, ...]
+    curves: tuple[ReferenceCurve, ...]
+    figure: str
+    failed_terms: str = ""
+
+
 @runtime_checkable
 class Evaluator(Protocol):
     """A loaded backend. ``evaluate`` is called once per generation with the whole population.

@@ -16,7 +16,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from gaitgram.backends.api import SettingsError, Verdict
+from gaitgram.backends.api import Assessment, SettingsError, Verdict
 from gaitgram.backends.catalogue import JointCatalogue
 from gaitgram.backends.sensors import SensorCatalogue
 from gaitgram.plugins import PluginLoadError, PluginNotFound, Registry
@@ -28,7 +28,9 @@ __all__ = [
     "BackendSpec",
     "backend_names",
     "backend_version",
+    "backends_that",
     "get_backend",
+    "installed_backend",
 ]
 
 ENTRY_POINT_GROUP = "gaitgram.backends"
@@ -95,6 +97,20 @@ class BackendSpec:
       score, once, for ``gaitgram report --assess`` to keep (``assessment.json``):
       ``mujoco-horse``'s realism beside real walks and its disturbance trials;
       None: nothing is measured beyond the score.
+    * ``assessment()`` declares what ``assess`` keeps, as data (:class:`~gaitgram.backends.api.Assessment`:
+      the measures and curves, the reference they are held against, the scores of the
+      distance), for the report's realism and robustness sections; called when a report
+      reads assessments (it may read a file). A report reads the assessments of backends
+      that declare both; None: they are not reported.
+    * ``render(settings, motion, *, cycles, fps, width, height)`` draws each gait of a motion
+      batch (every one playable) as it is scored, closed loops closed: a list of RGB frames
+      [height, width, 3] per gait, ``fps`` a second, over ``cycles`` cycles (None: as many
+      as its evaluation plays); it raises :class:`~gaitgram.animation.RenderError` when it
+      cannot draw (no offscreen OpenGL). ``gaitgram render`` and the report's GIFs use it;
+      None: the backend's gaits are not drawn.
+    * ``cycle_frequency`` is the cycle frequency (Hz) a gait is played at unless it evolves its
+      own (the target's), which a written ``@frequency`` rule centres on
+      (``gaitgram seed grammar``); None: the backend names none.
     * ``sensors`` are what a closed-loop phenotype may read beside ``t``
       (:mod:`~gaitgram.backends.sensors`, declared as data like the joints); None: the
       backend plays open-loop curves only, and a grammar that reads a sensor is refused.
@@ -123,6 +139,9 @@ class BackendSpec:
     retarget: Callable[[Mapping[str, Any], Any, str, str], tuple[dict[str, Any], Any]] | None = None
     retarget_scalings: tuple[str, ...] = ()
     assess: Callable[[Mapping[str, Any], Any], list[dict[str, Any]]] | None = None
+    assessment: Callable[[], Assessment] | None = None
+    render: Callable[..., list[list[Any]]] | None = None
+    cycle_frequency: float | None = None
     sensors: SensorCatalogue | None = None
     scores_phenotype: bool = False
 
@@ -177,3 +196,18 @@ def backend_version(name: str) -> str:
 
 def get_backend(name: str) -> BackendSpec:
     return REGISTRY.get(name)
+
+
+def installed_backend(name: str) -> BackendSpec | None:
+    """The backend ``name``'s spec; None if it is not installed here or cannot be loaded (records
+    made elsewhere name backends this machine may lack)."""
+    try:
+        return get_backend(name)
+    except (BackendNotFound, BackendLoadError):
+        return None
+
+
+def backends_that(declare: Callable[[BackendSpec], bool]) -> tuple[str, ...]:
+    """The installed backends whose spec ``declare`` accepts (``lambda spec: spec.render is not
+    None``), for a message that names them; one that cannot be loaded is left out."""
+    return tuple(name for name in backend_names() if (spec := installed_backend(name)) and declare(spec))

@@ -24,7 +24,7 @@ from gaitgram.cli.selection import (
     select_gait,
 )
 from gaitgram.evolution.selection import score
-from gaitgram.pipeline import Individual, PipelineError
+from gaitgram.pipeline import DEFAULT_BACKEND, Individual, PipelineError
 
 _Run = Annotated[
     Path | None,
@@ -40,7 +40,8 @@ _Config = Annotated[
     Path | None, typer.Option("--config", "-c", help="A run.toml: codons, backend, settings, weights.")
 ]
 _Backend = Annotated[
-    str | None, typer.Option(help="Fitness backend (default: the grammar's @backend, else mujoco-horse).")
+    str | None,
+    typer.Option(help=f"Fitness backend (default: the grammar's @backend, else {DEFAULT_BACKEND})."),
 ]
 _MaxDepth = Annotated[int | None, typer.Option(min=1, help="Deepest rule node (default: none).")]
 _Horizon = Annotated[

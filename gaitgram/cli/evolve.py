@@ -32,7 +32,7 @@ from gaitgram.evolution.transfer import TransferError, start_genomes
 from gaitgram.extras import MissingExtra
 from gaitgram.fileio import DirectoryInUse, DirectoryLock
 from gaitgram.language.source import SourceError, read_source
-from gaitgram.pipeline import Pipeline, PipelineError
+from gaitgram.pipeline import DEFAULT_BACKEND, Pipeline, PipelineError
 from gaitgram.strategies.api import GenerationStats, StrategyError
 from gaitgram.strategies.registry import load_strategy, run_pipeline
 from gaitgram.tomlplaces import key_location
@@ -56,7 +56,7 @@ _Runs = Annotated[int | None, typer.Option(min=1, help="Independent runs with de
 _Seed = Annotated[int | None, typer.Option(min=0, help="Random seed (default 0).")]
 _Backend = Annotated[
     str | None,
-    typer.Option(help="Fitness backend (default: the grammar's @backend, else mujoco-horse)."),
+    typer.Option(help=f"Fitness backend (default: the grammar's @backend, else {DEFAULT_BACKEND})."),
 ]
 _Strategy = Annotated[
     str | None,

@@ -7,11 +7,12 @@ import difflib
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
 from gaitgram import fileio
+from gaitgram.backends.registry import backends_that
 from gaitgram.cli.common import (
     as_they_were,
     check_output,
@@ -35,12 +36,13 @@ from gaitgram.cli.selection import (
 )
 from gaitgram.evolution.rundir import run_input
 from gaitgram.extras import MissingExtra
-from gaitgram.pipeline import PipelineError
+from gaitgram.pipeline import Pipeline, PipelineError
 
 if TYPE_CHECKING:
+    from collections.abc import Mapping
+
     import numpy as np
 
-    from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
     from gaitgram.motion.gait import MotionBatch
 
 #: ``--compare seed``: the bundled walk seed rather than a run directory.
@@ -105,7 +107,7 @@ def command(
     defines: Defines = None,
     setting: Settings = None,
 ) -> None:
-    """Render a gait on the mujoco-horse backend offscreen (MUJOCO_GL=egl by default).
+    """Render a gait offscreen, as its backend plays it when scoring (MUJOCO_GL=egl by default).
 
     The gait goes through the same pipeline as scoring: the run's codons, wraps, backend settings
     (its Froude number sets the stride frequency) and joint freedom. The output's suffix chooses
@@ -140,7 +142,7 @@ def _check_outputs(output: Path, strip: Path | None, force: bool, inputs: list[f
     reads (a new file in a run directory, beside its records, is fine: ``runs/x/best.gif``), and an
     animation format whose extra is missing; the strip's path (by default the animation's, with
     .png)."""
-    from gaitgram.backends.mujoco_horse.render import RenderError, require_writers
+    from gaitgram.animation import RenderError, require_writers
 
     try:
         require_writers(output)  # the format from the suffix, and its extra: before any work
@@ -156,8 +158,8 @@ def _check_outputs(output: Path, strip: Path | None, force: bool, inputs: list[f
 
 
 def _gaits(chosen: SelectedGait, compare: str | None) -> tuple[_Gait, _Gait | None]:
-    """The chosen gait and, with ``--compare``, the one to show beside it (exit 2 if either is not
-    scored by the mujoco-horse backend)."""
+    """The chosen gait and, with ``--compare``, the one to show beside it (exit 2 if the backend of
+    either draws no gaits, or cannot play the walk seed)."""
     bodies = chosen.pipeline.spec.bodies or {}
     body = compare if compare in bodies else None
     if compare not in (None, SEED) and body is None and not os.path.lexists(compare):  # a loop: said below
@@ -169,23 +171,23 @@ def _gaits(chosen: SelectedGait, compare: str | None) -> tuple[_Gait, _Gait | No
         )
     other = None if compare in (None, SEED) or body is not None else _best_of(Path(compare))
     for gait in (chosen, other):
-        if gait is not None and gait.pipeline.backend != "mujoco-horse":
+        if gait is not None and gait.pipeline.spec.render is None:
+            drawn = " or ".join(backends_that(lambda spec: spec.render is not None)) or "no installed"
             backend = gait.pipeline.backend
-            raise fail(f"render draws the mujoco-horse backend; {gait.describe} is scored by {backend!r}")
+            raise fail(f"render draws the {drawn} backend; {gait.describe} is scored by {backend!r}")
     shown = _Gait.of(chosen)
     if compare is None:
         return shown, None
     if body is not None:
-        return shown, shown.on(body, chosen)
+        return shown, shown.on(body)
     return shown, _Gait.of(other) if other is not None else _Gait.seed(chosen)
 
 
 def _render(
     output: Path, fps: int, shown: _Gait, beside: _Gait | None
 ) -> tuple[list[np.ndarray], bytes, bytes]:
-    """The animation's frames, the animation encoded as ``output``'s suffix says, and the strip;
-    the evaluators closed."""
-    from gaitgram.backends.mujoco_horse.render import (
+    """The animation's frames, the animation encoded as ``output``'s suffix says, and the strip."""
+    from gaitgram.animation import (
         RenderError,
         animation_format,
         encode_animation,
@@ -204,12 +206,8 @@ def _render(
             animation = side_by_side(labelled(frames, shown.label), labelled(second, beside.label))
             pictures = strip_png(frames, below=second, labels=(shown.label, beside.label))
         movie = encode_animation(animation, animation_format(output), fps)
-    except RenderError as error:
+    except (RenderError, PipelineError) as error:
         raise fail(str(error)) from None
-    finally:
-        shown.close()
-        if beside is not None:
-            beside.close()
     return animation, movie, pictures
 
 
@@ -220,12 +218,13 @@ def _best_of(path: Path) -> SelectedGait:
 
 @dataclass
 class _Gait:
-    """One gait to draw: its motion, the evaluator that plays it, and its label."""
+    """One gait to draw: its motion, the pipeline whose backend draws it (under ``settings``; None:
+    the pipeline's own), and its label."""
 
     batch: MotionBatch
-    evaluator: HorseEvaluator
+    pipeline: Pipeline
     label: str
-    owned: bool = True  # close the evaluator when done
+    settings: Mapping[str, Any] | None = None
 
     @classmethod
     def of(cls, chosen: SelectedGait) -> _Gait:
@@ -237,47 +236,37 @@ class _Gait:
         batch = pipeline.motion([mapped], chosen.generation)
         if batch.problems[0] is not None:
             raise fail(f"{batch.details[0]}", 1)
-        return cls(batch, _evaluator(chosen), _short(chosen))
+        return cls(batch, pipeline, _short(chosen))
 
     @classmethod
     def seed(cls, chosen: SelectedGait) -> _Gait:
-        """The bundled walk seed, played by a horse with the chosen gait's backend settings."""
+        """The bundled walk seed, played with the chosen gait's backend and settings (exit 2 if
+        that backend lacks a joint the seed drives)."""
         from gaitgram.seed import load_seed
 
-        return cls(load_seed().motion_batch(), _evaluator(chosen), "walk seed")
+        batch = load_seed().motion_batch()
+        catalogue = chosen.pipeline.spec.catalogue
+        lacking = [j for j in batch.joints if catalogue is not None and catalogue.get(j) is None]
+        if lacking:
+            raise fail(
+                f"--compare {SEED}: the walk seed drives {', '.join(lacking)}, which backend "
+                f"{chosen.pipeline.backend!r} lacks; compare with a run directory instead"
+            )
+        return cls(batch, chosen.pipeline, "walk seed")
 
-    def on(self, body: str, chosen: SelectedGait) -> _Gait:
+    def on(self, body: str) -> _Gait:
         """This gait on ``body``, its cycle frequency scaled by dynamic similarity."""
-        from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
-        from gaitgram.backends.mujoco_horse.retarget import retarget
-        from gaitgram.backends.mujoco_horse.settings import HorseSettings
-
-        settings, batch = retarget(chosen.pipeline.config.backend_settings, self.batch, body, "froude")
-        evaluator = HorseEvaluator(HorseSettings.from_mapping({**settings, "threads": 1}))
-        return _Gait(batch, evaluator, f"on {body} (Froude-scaled)")
+        retarget = self.pipeline.spec.retarget
+        assert retarget is not None  # the backend names bodies
+        try:
+            settings, batch = retarget(self.pipeline.config.backend_settings, self.batch, body, "froude")
+        except ValueError as error:
+            raise fail(f"--compare {body}: {error}") from None
+        return _Gait(batch, self.pipeline, f"on {body} (Froude-scaled)", settings)
 
     def frames(self, fps: int) -> list[np.ndarray]:
-        import numpy as np
-
-        from gaitgram.backends.mujoco_horse.render import render_frames
-
-        control = self.evaluator.controls(self.batch, np.array([0]))[0]
-        return render_frames(self.evaluator, control, fps=fps)
-
-    def close(self) -> None:
-        if self.owned:
-            self.evaluator.close()
-
-
-def _evaluator(chosen: SelectedGait) -> HorseEvaluator:
-    from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
-
-    try:
-        evaluator = chosen.pipeline.load_evaluator({"threads": 1})
-    except PipelineError as error:
-        raise fail(str(error)) from None
-    assert isinstance(evaluator, HorseEvaluator)
-    return evaluator
+        (frames,) = self.pipeline.render(self.batch, settings=self.settings, fps=fps)
+        return frames
 
 
 def _short(chosen: SelectedGait) -> str:

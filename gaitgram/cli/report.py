@@ -29,7 +29,7 @@ _Gaits = Annotated[
         min=0,
         help="Animate each arm's best walk, and this many gaits per nsga2 or map-elites arm: "
         "trade-offs spread along the front, repertoire cells spread along the first descriptor "
-        "(mujoco-horse; slow).",
+        "(if the runs' backend draws gaits; slow).",
     ),
 ]
 _Assess = Annotated[
@@ -37,7 +37,8 @@ _Assess = Annotated[
     typer.Option(
         "--assess",
         help="First measure each run's best gait beside the real walks and under disturbances "
-        "where not yet measured (mujoco-horse; simulation, kept in run-NNN/assessment.json of the "
+        "where not yet measured (if the runs' backend measures gaits; simulation, kept in "
+        "run-NNN/assessment.json of the "
         "run directories; reports read it from there).",
     ),
 ]

@@ -18,13 +18,12 @@ import numpy as np
 
 from gaitgram.analysis.cfg import RuleKind, build_cfg
 from gaitgram.backends.catalogue import JointCatalogue
-from gaitgram.backends.mujoco_horse import CATALOGUE
-from gaitgram.backends.mujoco_horse.bodies import NOMINAL_HIP_HEIGHT
-from gaitgram.backends.mujoco_horse.targets import DEFAULT_FROUDE, walk_targets
+from gaitgram.backends.registry import BackendSpec, get_backend
 from gaitgram.language.model import Grammar
 from gaitgram.language.ranges import parse_range
 from gaitgram.motion.expression import Motion, compile_motion, phase_grid
 from gaitgram.motion.fourier import SineFit, SineTerm, fit_sum_of_sines
+from gaitgram.pipeline import DEFAULT_BACKEND
 from gaitgram.seed.data import SeedCurves
 
 
@@ -82,10 +81,13 @@ MAX_TERMS = 3
 FUNCTION_AMPLITUDE = 20.0
 #: Sec. 4.3's offsets: within this many degrees of the seed's.
 OFFSET_REACH = 5.0
+#: The backend the grammars are written for: its joints and limits (``@joint``), its name
+#: (``@backend``) and the cycle frequency it declares (``BackendSpec.cycle_frequency``).
+WRITTEN_FOR = DEFAULT_BACKEND
 #: The evolved cycle frequency (Hz): from below the slowest quartile of real walks (the DLC_Horse
 #: strides of 1.33 s, 0.75 Hz) to as far above the target; the middle value is the target
 #: frequency, which the seed genome picks.
-TARGET_FREQUENCY = walk_targets(DEFAULT_FROUDE, NOMINAL_HIP_HEIGHT).stride_frequency
+TARGET_FREQUENCY = get_backend(WRITTEN_FOR).cycle_frequency
 FREQUENCY_LOW = 0.6
 FREQUENCY_STEP = 0.05
 #: Phases at which curve bounds are worked out (a multiple of ``gaitgram test``'s 256).
@@ -102,11 +104,16 @@ def write_grammar(
     *,
     threshold: float = 1.0,
     command: str | None = None,
-    catalogue: JointCatalogue = CATALOGUE,
+    backend: BackendSpec | None = None,
     frequency: float | None = None,
 ) -> str:
-    """The grammar text; with ``frequency`` (the target's, Hz) the cycle frequency evolves in a
-    ``@frequency`` rule centred on it, else the backend imposes it as in the paper."""
+    """The grammar text for ``backend`` (by default :data:`WRITTEN_FOR`), with its joints and
+    limits; with ``frequency`` (the target's, Hz) the cycle frequency evolves in a ``@frequency``
+    rule centred on it, else the backend imposes it as in the paper."""
+    backend = backend or get_backend(WRITTEN_FOR)
+    if backend.catalogue is None:
+        raise ValueError(f"backend {backend.name!r} names no joints to write a grammar's curves for")
+    catalogue = backend.catalogue
     fits = fit_seed(seed, threshold)
     joints = [j for j in catalogue.names if j in fits] if style is not Style.FREE else list(catalogue.names)
     rules = [f"<{j}>" for j in joints] + (["<frequency>"] if frequency is not None else [])
@@ -117,7 +124,7 @@ def write_grammar(
         "# edit the generator (gaitgram/seed/grammars.py), not this file.",
         "",
         "@start <prog>",
-        "@backend mujoco-horse",
+        f"@backend {backend.name}",
         "@units deg",
         "",
         "<prog> ::= " + ";".join(rules),

@@ -2,16 +2,17 @@
 
 The report's realism and robustness sections (:mod:`gaitgram.study.kept_gaits`) need simulation:
 each run's best gait (its last checkpoint's best, which ``best.json`` records) is measured by the
-backend that scored it (``BackendSpec.assess``; on ``mujoco-horse``, beside the DLC_Horse walks
-and under each disturbance: :mod:`gaitgram.backends.mujoco_horse.assessment`). That is slow, so
+backend that scored it (``BackendSpec.assess``: on the horse, beside the DLC_Horse walks and
+under each disturbance), which declares what it keeps (``BackendSpec.assessment``). That is slow, so
 it is an explicit step whose results are kept in the run directory, ``run-NNN/assessment.json``;
 a report only reads them, and so stays fast and the same, byte for byte, however often it is
 made.
 
 A kept assessment names the gait (genome, generation, fitness), what scored it (backend and
 version) and :data:`FORMAT`: when any of these no longer matches, the report calls it stale and
-``--assess`` measures the gait again. Only ``mujoco-horse`` runs are measured; runs that have not
-finished are left for later (``gaitgram report --watch`` measures them as they finish).
+``--assess`` measures the gait again. Only the runs of a backend that declares both are measured
+(:func:`assesses`); runs that have not finished are left for later (``gaitgram report --watch``
+measures them as they finish).
 """
 
 from __future__ import annotations
@@ -21,7 +22,8 @@ from pathlib import Path
 from typing import Any
 
 from gaitgram import jsonio
-from gaitgram.backends.registry import BackendSpec
+from gaitgram.backends.api import Assessment
+from gaitgram.backends.registry import BackendSpec, installed_backend
 from gaitgram.evolution.checkpoint import load_checkpoint
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_walk_of_runs, read_manifest
 from gaitgram.fileio import write_atomically
@@ -35,8 +37,19 @@ BEST_WALK = "best-walk-assessment.json"
 #: Raised when what is measured, or how, changes: every kept assessment is then stale.
 #: 2: the bumps are ten floors, and each trial keeps on how many it was played and held.
 FORMAT = 2
-#: The backend whose assessments the report reads (its sections hold gaits beside real horses).
-MEASURED_ON = "mujoco-horse"
+
+
+def assesses(spec: BackendSpec) -> bool:
+    """Whether a backend measures its kept gaits (``assess``) and declares what it keeps
+    (``assessment``), as a report needs both."""
+    return spec.assess is not None and spec.assessment is not None
+
+
+def assessing(backend: str) -> Assessment | None:
+    """What the backend named ``backend`` declares it keeps of the gaits it measures; None if it
+    measures none (or is not installed here: its runs' assessments are then not read)."""
+    spec = installed_backend(backend)
+    return spec.assessment() if spec is not None and spec.assessment is not None and assesses(spec) else None
 
 
 def assessment_path(arm: Path, run: int) -> Path:
@@ -76,7 +89,7 @@ def assess_arm(
     except RunDirectoryError as error:
         raise ReportError(str(error)) from None
     pipeline = directory.pipeline
-    if pipeline.backend != MEASURED_ON or pipeline.spec.assess is None:
+    if not assesses(pipeline.spec):
         return []
     manifest = read_manifest(path)
     version = manifest["backend_version"] if manifest else ""
@@ -96,7 +109,7 @@ def assess_arm(
         best = state.best
         record = {
             "format": FORMAT,
-            "backend": MEASURED_ON,
+            "backend": pipeline.backend,
             "backend_version": version,
             "generation": state.generation,
             "genome": [int(c) for c in best.genome],
@@ -137,7 +150,7 @@ def _best_walk(directory: RunDirectory, version: str, runs: range) -> dict[str, 
         return None
     return {
         "format": FORMAT,
-        "backend": MEASURED_ON,
+        "backend": directory.pipeline.backend,
         "backend_version": version,
         "generation": walk.generation,
         "genome": [int(c) for c in walk.genome],
@@ -167,10 +180,11 @@ def measure(settings: dict[str, Any], batch: Any, spec: BackendSpec) -> list[dic
 def assess_arms(
     arms: Sequence[ArmRecord], *, force: bool = False, progress: Callable[[str], None] | None = None
 ) -> list[Path]:
-    """:func:`assess_arm` on each arm scored on the horse in turn, over the runs a report reads."""
+    """:func:`assess_arm` on each arm whose backend measures its gaits, in turn, over the runs a
+    report reads."""
     return [
         p
         for arm in arms
-        if arm.backend == MEASURED_ON
+        if assessing(arm.backend) is not None
         for p in assess_arm(arm.path, window=arm.window, force=force, progress=progress)
     ]

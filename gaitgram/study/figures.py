@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from gaitgram.study.escape import printable
-from gaitgram.study.kept_gaits import CURVE_TITLES, CURVES, RealismCurves, real_walks
+from gaitgram.study.kept_gaits import RealismCurves
 from gaitgram.study.model import Convergence, Fronts, RepertoireMap
 
 if TYPE_CHECKING:
@@ -174,15 +174,18 @@ def _rectangle(corner: tuple[float, float], width: float, height: float, label: 
 
 @drawer.register(RealismCurves)
 def realism_figure(data: RealismCurves) -> Figure:
-    """The fetlock and protraction curves of the arms' best gaits over one stride, from the hoof's
-    footfall, each arm in its colour, on the real walks' mean and SD (grey)."""
+    """The curves of the arms' best gaits over one stride (on the horse, the fetlock and protraction
+    curves from the hoof's footfall), each arm in its colour, on the real walks' mean and SD
+    (grey): a panel per curve the backend declares, two to a row."""
     from matplotlib.figure import Figure
 
-    real = real_walks()["curves"]
-    figure = Figure(figsize=(11, 7), layout="constrained")
-    panels = figure.subplots(2, 2, sharex=True).ravel()
-    for panel, name in zip(panels, CURVES, strict=True):
-        mean, sd = np.array(real[name]["mean"]), np.array(real[name]["sd"])
+    figure = Figure(figsize=(11, 3.5 * math.ceil(len(data.reference) / 2)), layout="constrained")
+    panels = np.atleast_1d(figure.subplots(math.ceil(len(data.reference) / 2), 2, sharex=True)).ravel()
+    for panel in panels[len(data.reference) :]:
+        panel.set_visible(False)
+    for panel, reference in zip(panels, data.reference, strict=False):
+        name = reference.name
+        mean, sd = np.array(reference.mean), np.array(reference.sd)
         phase = np.arange(len(mean)) / len(mean)
         panel.fill_between(phase, mean - sd, mean + sd, color="0.8", linewidth=0, label="real walks: SD")
         panel.plot(phase, mean, color="0.4", linestyle="--", label="real walks: mean")
@@ -200,9 +203,9 @@ def realism_figure(data: RealismCurves) -> Figure:
                     linewidth=2,
                     label=printable(arm.arm),
                 )
-        panel.set_title(CURVE_TITLES[name], fontsize="medium")
+        panel.set_title(reference.title, fontsize="medium")
         panel.grid(alpha=0.3)
-    for panel in panels[2:]:
+    for panel in panels[max(0, len(data.reference) - 2) : len(data.reference)]:  # each column's lowest
         panel.set_xlabel("share of the stride, from the hoof's footfall")
     panels[0].legend(fontsize="small")
     figure.suptitle(printable(data.title))

@@ -3,9 +3,10 @@
 Which gaits (:func:`gaits_section`) is data, decided before anything is
 written: a cell no run filled is refused then. Each gait is drawn through its
 run's own pipeline, as ``gaitgram render --run`` draws one: the run's codons,
-backend settings and joint freedom at its last generation. Only the
-``mujoco-horse`` backend draws; MuJoCo must find an offscreen OpenGL
-(``MUJOCO_GL=egl``, set by the report command before MuJoCo is imported).
+backend settings and joint freedom at its last generation, played as scored by the
+backend's render hook (``BackendSpec.render``; a backend without one draws nothing). MuJoCo
+must find an offscreen OpenGL (``MUJOCO_GL=egl``, set by the report command before MuJoCo is
+imported).
 """
 
 from __future__ import annotations
@@ -16,6 +17,8 @@ from typing import Any
 
 import numpy as np
 
+from gaitgram.animation import RenderError, write_animation
+from gaitgram.backends.registry import installed_backend
 from gaitgram.evolution.rundir import KeptGait, RunDirectory, RunDirectoryError, best_walk_of_runs
 from gaitgram.pipeline import PipelineError
 from gaitgram.strategies.kept import Front, Repertoire
@@ -23,12 +26,16 @@ from gaitgram.study import escape
 from gaitgram.study.model import Figure, Gait, Section, figure_name
 from gaitgram.study.records import ArmRecord, ReportError
 
-#: The backend gaits are drawn on.
-DRAWN_ON = "mujoco-horse"
-
 
 class GalleryError(ValueError):
     """A gait that cannot be drawn; says why."""
+
+
+def draws(backend: str) -> bool:
+    """Whether the backend named ``backend`` draws its gaits (declares a render hook; not when it
+    is not installed here)."""
+    spec = installed_backend(backend)
+    return spec is not None and spec.render is not None
 
 
 def _spread(count: int, wanted: int) -> np.ndarray:
@@ -65,9 +72,10 @@ def gaits_section(
     *,
     gaits: int,
 ) -> Section | None:
-    """The GIFs a report makes: with ``gaits``, each arm's best walk (mujoco-horse arms that hand
-    back one) and ``gaits`` trade-offs spread along each front (run 0's); the best gaits of the
-    ``cells`` of each repertoire. A cell no run filled is a :class:`ReportError`."""
+    """The GIFs a report makes: with ``gaits``, each arm's best walk (arms whose backend draws
+    gaits and judges walks, that hand back one) and ``gaits`` trade-offs spread along each front
+    (run 0's); the best gaits of the ``cells`` of each repertoire. A cell no run filled is a
+    :class:`ReportError`."""
     figures: list[Figure] = []
     for arm in arms:
         walk = best_walk(arm) if gaits else None
@@ -118,16 +126,15 @@ def check_cells(arm: str, repertoire: Repertoire, cells: Sequence[tuple[int, ...
 
 
 def best_walk(arm: ArmRecord) -> KeptGait | None:
-    """The best walk any finished run of a mujoco-horse arm hands back (of the runs the report
-    reads); None if the arm is drawn on another backend, its backend judges no walks, or no run
-    hands one back."""
+    """The best walk any finished run of an arm hands back (of the runs the report reads); None if
+    its backend draws no gaits or judges no walks, or no run hands one back."""
     if arm.walk_held_rate == 0:
         return None
     try:
         directory = RunDirectory.open(arm.path)
     except RunDirectoryError as error:
         raise ReportError(str(error)) from None
-    if directory.pipeline.backend != DRAWN_ON or directory.pipeline.spec.verdict is None:
+    if directory.pipeline.spec.render is None or directory.pipeline.spec.verdict is None:
         return None
     try:
         return best_walk_of_runs(directory, finished_only=True, runs=arm.numbers)
@@ -146,35 +153,20 @@ GIF_SIZE = (320, 240)
 def render_gaits(
     run_directory: Path, genomes: Sequence[Sequence[int]], paths: Sequence[Path], fps: int = GIF_FPS
 ) -> None:
-    """One GIF per genome (``paths[i]`` for ``genomes[i]``), scored as the run scored it."""
+    """One GIF per genome (``paths[i]`` for ``genomes[i]``), played as the run scored it."""
     try:
         directory = RunDirectory.open(run_directory)
     except RunDirectoryError as error:
         raise GalleryError(str(error)) from None
     pipeline = directory.pipeline
-    if pipeline.backend != DRAWN_ON:
-        raise GalleryError(
-            f"gaits are drawn on the {DRAWN_ON} backend; {run_directory} uses {pipeline.backend!r}"
-        )
-    from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
-    from gaitgram.backends.mujoco_horse.render import RenderError, render_frames, write_animation
-
-    generation = pipeline.config.generations
+    batch = pipeline.motion(pipeline.map([tuple(g) for g in genomes]), pipeline.config.generations)
+    for g, path in enumerate(paths):
+        if batch.problems[g] is not None:
+            raise GalleryError(f"{path.name}: {batch.details[g]}")
+    width, height = GIF_SIZE
     try:
-        evaluator = pipeline.load_evaluator({"threads": 1})
-    except PipelineError as error:
+        drawn = pipeline.render(batch, fps=fps, width=width, height=height)
+        for frames, path in zip(drawn, paths, strict=True):
+            write_animation(frames, path, fps)
+    except (RenderError, PipelineError) as error:
         raise GalleryError(str(error)) from None
-    try:
-        assert isinstance(evaluator, HorseEvaluator)
-        for genome, path in zip(genomes, paths, strict=True):
-            mapped = pipeline.map([tuple(genome)])
-            batch = pipeline.motion(mapped, generation)
-            if batch.problems[0] is not None:
-                raise GalleryError(f"{path.name}: {batch.details[0]}")
-            control = evaluator.controls(batch, np.array([0]))[0]
-            width, height = GIF_SIZE
-            write_animation(render_frames(evaluator, control, fps=fps, width=width, height=height), path, fps)
-    except RenderError as error:
-        raise GalleryError(str(error)) from None
-    finally:
-        evaluator.close()

@@ -3,20 +3,18 @@ pushed.
 
 Read from the assessments ``gaitgram report --assess`` keeps in each run directory
 (:mod:`gaitgram.study.assess`; untrusted input, checked as read), never simulated here: the
-report stays fast and deterministic. Only ``mujoco-horse`` arms have these sections.
+report stays fast and deterministic. Only arms whose backend measures its gaits have these
+sections, and what they show is what that backend declares it keeps
+(:class:`~gaitgram.backends.api.Assessment`): nothing here knows which backend it is.
 
-**Realism** (*Gaits held against real horses*): per arm, the median over its runs' best gaits of
-the steady-state duty factor, the footfall phases after the left hind, stride frequency and
-length at the gait's speed with what Alexander's relations predict at that speed (Froude-scaled:
-Alexander 1976; Alexander & Jayes 1983), the fetlock angles' ranges and the limbs' most
-protracted and retracted angles, each beside the DLC_Horse walks (``seeds/dlc_walk.json``: median
-and IQR); the realism distance per gait (defined in
-:mod:`gaitgram.backends.mujoco_horse.realism` and docs/study.md) per arm, with the rank tests;
-and a figure overlaying the arms' best gaits' curves on the real walks' band.
+**Realism** (on the horse, *Gaits held against real horses*): per arm, the median over its runs'
+best gaits of each measure the backend declares, beside the reference's value and spread (on the
+horse, the DLC_Horse walks); the realism distance per gait per arm, with the rank tests, and its
+terms; and a figure overlaying the arms' best gaits' curves on the reference's band.
 
 **Robustness** (*Robust, not only sustained*): per arm, the share of the runs' best gaits that stay
-upright and walking under each disturbance (a fore-aft push, a bumpy floor;
-:mod:`gaitgram.backends.mujoco_horse.robustness`), and under all of them.
+upright and walking under each disturbance the assessments name (on the horse, fore-aft pushes and
+bumpy floors), and under all of them, with the verdict's terms the gaits failed.
 """
 
 from __future__ import annotations
@@ -26,34 +24,17 @@ import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import cache
 from typing import Any
 
 import numpy as np
 
 from gaitgram import jsonio
-from gaitgram.packaged import packaged
+from gaitgram.backends.api import Assessment, ReferenceCurve
 from gaitgram.study import escape
-from gaitgram.study.assess import ASSESSMENT, FORMAT, MEASURED_ON, assessment_path, best_walk_path, kept_key
+from gaitgram.study.assess import ASSESSMENT, FORMAT, assessing, assessment_path, best_walk_path, kept_key
 from gaitgram.study.model import Column, Figure, Kind, RankTests, Section, Table, figure_name
 from gaitgram.study.records import ArmRecord, ReportError
 from gaitgram.study.stats import bootstrap_median_ci, compare
-
-CURVES = ("fetlock_fore", "fetlock_hind", "protraction_fore", "protraction_hind")
-SCORED = ("duty_factor", "phase_fore_left", "phase_hind_right", "phase_fore_right", *CURVES)
-CURVE_TITLES = {
-    "fetlock_fore": "fore fetlock (deg)",
-    "fetlock_hind": "hind fetlock (deg)",
-    "protraction_fore": "fore limb protraction (deg)",
-    "protraction_hind": "hind limb protraction (deg)",
-}
-
-
-@cache
-def real_walks() -> dict[str, Any]:
-    """The DLC_Horse summary gaitgram ships (``seeds/dlc_walk.json``)."""
-    return json.loads(packaged("gaitgram.seed", "dlc_walk.json").read_text(encoding="utf-8"))
-
 
 # ---- what the runs keep ------------------------------------------------------------------------
 
@@ -119,6 +100,8 @@ class ArmAssessed:
     missing: tuple[int, ...]  # runs with none
     stale: tuple[int, ...]  # runs whose assessment is of another gait, scoring or format
     walk: Assessed | None = None  # the arm's best walk (which may be no run's best gait), if kept
+    #: What the arm's backend declares its assessments keep (None: the sections show no realism).
+    assessment: Assessment | None = None
 
     @property
     def measured(self) -> tuple[Assessed, ...]:
@@ -132,8 +115,9 @@ class ArmAssessed:
 
 
 def load_assessed(arm: ArmRecord) -> ArmAssessed | None:
-    """The kept assessments of ``arm``'s runs; None for an arm not scored on the horse."""
-    if arm.backend != MEASURED_ON:
+    """The kept assessments of ``arm``'s runs; None for an arm whose backend measures no gaits."""
+    declared = assessing(arm.backend)
+    if declared is None:
         return None
     found, missing, stale = [], [], []
     for run, record in zip(arm.numbers, arm.runs, strict=True):
@@ -153,7 +137,7 @@ def load_assessed(arm: ArmRecord) -> ArmAssessed | None:
         if kept_key(kept) != expected:
             stale.append(run)
             continue
-        found.append(_assessed(kept, run, record.walk, path, arm))
+        found.append(_assessed(kept, run, record.walk, path, arm, declared))
     walk = None
     walk_path = best_walk_path(arm.path, arm.window)
     if walk_path.exists():
@@ -162,8 +146,8 @@ def load_assessed(arm: ArmRecord) -> ArmAssessed | None:
         if kept.get("format") == FORMAT and kept.get("backend_version") == arm.backend_version:
             if not isinstance(run, int) or isinstance(run, bool):
                 raise ReportError(f"{walk_path}: run: not a run number; {_again(arm)}")
-            walk = _assessed(kept, run, True, walk_path, arm)
-    return ArmAssessed(arm.name, len(arm.runs), tuple(found), tuple(missing), tuple(stale), walk)
+            walk = _assessed(kept, run, True, walk_path, arm, declared)
+    return ArmAssessed(arm.name, len(arm.runs), tuple(found), tuple(missing), tuple(stale), walk, declared)
 
 
 def _again(arm: ArmRecord) -> str:
@@ -197,8 +181,11 @@ def _count(value: Any) -> bool:
     return isinstance(value, int) and not isinstance(value, bool) and value >= 0
 
 
-def _assessed(kept: dict[str, Any], run: int, walk: bool | None, path: Any, arm: ArmRecord) -> Assessed:
-    """A kept assessment, checked field by field (a number may be null: no value)."""
+def _assessed(
+    kept: dict[str, Any], run: int, walk: bool | None, path: Any, arm: ArmRecord, declared: Assessment
+) -> Assessed:
+    """A kept assessment, checked field by field against what the backend ``declared`` it keeps (a
+    number may be null: no value)."""
 
     def damaged(what: str) -> ReportError:
         return ReportError(f"{path}: {what}; the file was edited or damaged: {_again(arm)}")
@@ -216,18 +203,19 @@ def _assessed(kept: dict[str, Any], run: int, walk: bool | None, path: Any, arm:
         for name, table in (("measures", measures), ("scores", scores)):
             if not isinstance(table, dict) or not all(v is None or _number(v) for v in table.values()):
                 raise damaged(f"realism.{name}: not a table of numbers")
-        if set(scores) != set(SCORED):
-            raise damaged(f"realism.scores: not the scores of {', '.join(SCORED)}")
+        if set(scores) != set(declared.scored):
+            raise damaged(f"realism.scores: not the scores of {', '.join(declared.scored)}")
         measures = {k: math.nan if v is None else float(v) for k, v in measures.items()}
         scores = {k: math.nan if v is None else float(v) for k, v in scores.items()}
         distance = realism.get("distance")
         if not _number(distance) or not math.isfinite(distance):
             raise damaged("realism.distance: not a finite number")
         raw = realism.get("curves")
-        if not isinstance(raw, dict) or set(raw) != set(CURVES):
-            raise damaged(f"realism.curves: not the curves {', '.join(CURVES)}")
+        names = [curve.name for curve in declared.curves]
+        if not isinstance(raw, dict) or set(raw) != set(names):
+            raise damaged(f"realism.curves: not the curves {', '.join(names)}")
         curves = {}
-        for name in CURVES:
+        for name in names:
             values = raw[name]
             if not isinstance(values, list) or not values or not all(_number(v) for v in values):
                 raise damaged(f"realism.curves.{name}: not a list of numbers")
@@ -344,11 +332,12 @@ class ArmCurves:
 
 @dataclass(frozen=True)
 class RealismCurves:
-    """Each arm's best gaits' fetlock and protraction curves over one stride (from the hoof's
-    footfall), on the real walks' mean and SD."""
+    """Each arm's best gaits' curves over one stride (on the horse, the fetlock and protraction
+    curves from the hoof's footfall), on the reference's mean and SD."""
 
     arms: tuple[ArmCurves, ...]
     title: str
+    reference: tuple[ReferenceCurve, ...]
 
 
 # ---- the sections ------------------------------------------------------------------------------
@@ -373,61 +362,14 @@ def _pending_note(assessed: ArmAssessed) -> str | None:
     )
 
 
-def _iqr(summary: dict[str, Any]) -> str:
-    low, high = summary["iqr"]
-    return f"IQR {low:g} to {high:g}"
-
-
-def _curve_extreme(curve: np.ndarray, which: str) -> float:
-    return float(np.max(curve) if which == "max" else np.min(curve))
-
-
-def _rows() -> list[tuple[str, str, float | None, str]]:
-    """(key, label, the real walks' value, what that value is) for each row of the measures."""
-    real = real_walks()
-    lands = real["phase_after_left_hind"]
-    seconds = real["stride_seconds"]
-    low, high = seconds["iqr"]
-    rows: list[tuple[str, str, float | None, str]] = [
-        ("speed", "speed (m/s)", None, "not measured (pixels)"),
-        ("froude", "Froude number v / sqrt(g h)", None, ""),
-        ("duty_factor", "duty factor", real["duty_factor"]["median"], _iqr(real["duty_factor"])),
-        ("predicted_duty_factor", "duty factor, Alexander & Jayes at its speed", None, "Froude-scaled"),
-        ("phase_fore_left", "left fore lands after left hind (stride)", lands["LeftFrontHoof"]["median"],
-         _iqr(lands["LeftFrontHoof"])),
-        ("phase_hind_right", "right hind lands after left hind (stride)", lands["RightHindHoof"]["median"],
-         _iqr(lands["RightHindHoof"])),
-        ("phase_fore_right", "right fore lands after left hind (stride)", lands["RightFrontHoof"]["median"],
-         _iqr(lands["RightFrontHoof"])),
-        ("stride_frequency", "stride frequency (Hz)", real["stride_frequency_hz"],
-         f"IQR {1 / high:.3g} to {1 / low:.3g}"),
-        ("predicted_stride_frequency", "stride frequency, Alexander at its speed (Hz)", None,
-         "Froude-scaled"),
-        ("stride_length", "stride length (m)", None, "not measured (pixels)"),
-        ("predicted_stride_length", "stride length, Alexander at its speed (m)", None, "Froude-scaled"),
-    ]  # fmt: skip
-    for name in CURVES:
-        curve = real["curves"][name]
-        mean = np.array(curve["mean"])
-        title = CURVE_TITLES[name].removesuffix(" (deg)")
-        rows.append(
-            (f"{name}_range", f"{title}: range over a stride (deg)", curve["range_of_motion"],
-             f"of the mean stride; a median stride's {curve['median_stride_range']:g}")
-        )  # fmt: skip
-        if name.startswith("protraction"):
-            rows += [
-                (f"{name}_max", f"{title}: most protracted (deg)", float(mean.max()), "of the mean stride"),
-                (f"{name}_min", f"{title}: most retracted (deg)", float(mean.min()), "of the mean stride"),
-            ]
-    return rows
-
-
 def _value(gait: Assessed, key: str) -> float:
+    """A measure of the gait: a kept one, or ``CURVE_max`` / ``CURVE_min``, an extreme of a kept curve."""
     assert gait.measures is not None
     assert gait.curves is not None
     for which in ("max", "min"):
-        if key.endswith(f"_{which}") and key.removesuffix(f"_{which}") in CURVES:
-            return _curve_extreme(gait.curves[key.removesuffix(f"_{which}")], which)
+        curve = gait.curves.get(key.removesuffix(f"_{which}")) if key.endswith(f"_{which}") else None
+        if curve is not None:
+            return float(np.max(curve) if which == "max" else np.min(curve))
     return gait.measures.get(key, math.nan)
 
 
@@ -437,26 +379,17 @@ def _median(values: Sequence[float]) -> float | None:
 
 
 def realism_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed]) -> Section | None:
-    """The realism section of the horse arms (``assessed``, in the report's order); None if none."""
-    if not assessed:
+    """The realism section of the arms whose gaits were measured (``assessed``, in the report's
+    order), as their backend declares it; None if none."""
+    declared = _declared(assessed)
+    if declared is None:
         return None
-    title, scope = "Gaits held against real horses", "each run's best gait"
+    title, scope = declared.title, "each run's best gait"
     notes = tuple(n for n in map(_pending_note, assessed) if n)
     measured = [a for a in assessed if a.measured]
     if not measured:
         return Section("realism", title, scope, text="Not measured yet. " + ASSESS_TEXT, notes=notes)
-    real = real_walks()
-    text = (
-        "Each run's best gait played as scored and measured as the real walks were: DLC_Horse, "
-        f"{real['clips']} clips of horses walked in hand ({real['strides']} strides; "
-        "`seeds/dlc_walk.json`). Per arm, the median over its runs' best gaits that stand and step. "
-        "Stride frequency and length are the gait's at its own speed, beside what Alexander's relations "
-        "predict at that speed for the model's hip height (Froude-scaled). The **realism distance** of a "
-        "gait is the mean over eight measures (duty factor, three footfall phases, four curves) of its "
-        "distance from the real walks in units of their spread: 0 is their median gait, about 0.67 a gait "
-        "at their quartiles in every measure (docs/study.md). Image-plane angles from one camera compare "
-        "in shape and range, not to the degree. " + ASSESS_TEXT
-    )
+    text = f"{declared.text} {ASSESS_TEXT}"
     columns = [
         Column("measure", "measure", Kind.TEXT),
         Column("real", "real walks"),
@@ -464,8 +397,13 @@ def realism_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed]) 
     ]
     columns += [Column(a.arm, a.arm) for a in measured]
     rows = tuple(
-        (label, real_value, spread, *(_median([_value(g, key) for g in a.measured]) for a in measured))
-        for key, label, real_value, spread in _rows()
+        (
+            row.label,
+            row.value,
+            row.spread,
+            *(_median([_value(g, row.key) for g in a.measured]) for a in measured),
+        )
+        for row in declared.measures
     )
     measures = Table("measures", tuple(columns), rows, "medians over each arm's runs' best gaits")
     distance_columns = (
@@ -505,13 +443,13 @@ def realism_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed]) 
     )
     score_columns = (
         Column("arm", "arm", Kind.TEXT),
-        *(Column(name, name.replace("_", " ")) for name in SCORED),
+        *(Column(name, name.replace("_", " ")) for name in declared.scored),
     )
     scores = Table(
         "scores",
         score_columns,
         tuple(
-            (a.arm, *(_median([g.scores[s] for g in a.measured if g.scores]) for s in SCORED))
+            (a.arm, *(_median([g.scores[s] for g in a.measured if g.scores]) for s in declared.scored))
             for a in measured
         ),
         "median distance per measure, in the real walks' spread (each term of the realism distance)",
@@ -523,7 +461,7 @@ def realism_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed]) 
         "realism",
         "Each arm's best gait (thick) and its other runs' best gaits (thin) over one stride from the hoof's "
         "footfall, on the real walks' mean and SD (grey)",
-        _curves(arms, measured, "Best gaits beside the real walks (DLC_Horse: mean and SD)"),
+        _curves(arms, measured, declared.figure, declared.curves),
         ("png", "svg"),
     )
     falls = [
@@ -545,13 +483,20 @@ def realism_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed]) 
     )
 
 
+def _declared(assessed: Sequence[ArmAssessed]) -> Assessment | None:
+    """What the arms' backend declares its assessments keep (a report's arms share one backend)."""
+    return next((a.assessment for a in assessed if a.assessment is not None), None)
+
+
 def _curves(
     arms: Sequence[ArmRecord],
     assessed: Sequence[ArmAssessed],
     title: str,
+    reference: tuple[ReferenceCurve, ...],
     highlight: dict[str, Assessed | None] | None = None,
 ) -> RealismCurves:
-    """Each arm's curves: ``highlight``'s gait thick (default: the arm's best by fitness)."""
+    """Each arm's curves on the ``reference``'s: ``highlight``'s gait thick (default: the arm's best
+    by fitness)."""
     index = {a.name: k for k, a in enumerate(arms)}
     chosen = {a.arm: (highlight or {}).get(a.arm, a.best) for a in assessed}
     return RealismCurves(
@@ -565,6 +510,7 @@ def _curves(
             for k, a in enumerate(assessed)
         ),
         title,
+        reference,
     )
 
 
@@ -573,7 +519,7 @@ def arm_curves_figure(
 ) -> Figure | None:
     """One arm's best gaits' curves on the real walks' band, to show beside its animated ``walk``
     (a genome): thick, that walk's, if it is a run's best gait; else the arm's best by fitness."""
-    if not assessed.measured:
+    if not assessed.measured or assessed.assessment is None:
         return None
     kept_walk = [assessed.walk] if assessed.walk and assessed.walk.gait == "measured" else []
     same = [g for g in (*assessed.measured, *kept_walk) if walk is not None and g.genome == tuple(walk)]
@@ -589,14 +535,17 @@ def arm_curves_figure(
         f"{escape.markdown(assessed.arm)}: its runs' best gaits over one stride beside the real walks "
         "(grey: mean and SD); " + thick
     )
-    data = _curves(arms, [assessed], f"{assessed.arm} beside the real walks", {assessed.arm: shown})
+    title = f"{assessed.arm} beside the real walks"
+    data = _curves(arms, [assessed], title, assessed.assessment.curves, {assessed.arm: shown})
     return Figure(figure_name("curves", assessed.arm, ""), caption, data, ("png",))
 
 
 def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed]) -> Section | None:
-    """The robustness section of the horse arms; None if none."""
+    """The robustness section of the arms whose gaits were measured; None if none."""
     if not assessed:
         return None
+    declared = _declared(assessed)
+    failed_terms = declared.failed_terms if declared is not None else ""
     title, scope = "Robust, not only sustained", "each run's best gait"
     notes = [n for n in map(_pending_note, assessed) if n]
     tried = [a for a in assessed if any(g.trials for g in a.found)]
@@ -672,7 +621,7 @@ def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed
             where = " on some floor" if t in floored else ""
             said = [f"{fell} fell{where}"] if fell else []
             if stopped:
-                terms = _failing_terms(stopped)
+                terms = _failing_terms(stopped, failed_terms)
                 first = " on the first floor not held" if t in floored else ""
                 why = f" (walk terms failing{first}: {terms})" if terms else ""
                 said.append(f"{len(stopped)} stayed up but were not walking again{where}{why}")
@@ -691,16 +640,17 @@ def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed
     return Section("robustness", title, scope, text=text, tables=(table,), tests=tests, notes=tuple(notes))
 
 
-#: How a trial's detail names the walk terms a gait failed to walk again by (robustness.py).
-FAILED_TERMS = re.compile(r"not walking again: ([a-z_]+(?:, [a-z_]+)*)")
-
-
-def _failing_terms(trials: Sequence[Any]) -> str:
+def _failing_terms(trials: Sequence[Any], prefix: str) -> str:
     """How many of ``trials`` fail each walk term (on the first floor not held, for floors), most
-    first: ``speed 28, footfalls 17``; what a detail does not say is not counted."""
+    first: ``speed 28, footfalls 17``, read from each detail, where the terms follow ``prefix``
+    (the backend's ``Assessment.failed_terms``; empty: none is counted); what a detail does not
+    say is not counted."""
+    if not prefix:
+        return ""
+    pattern = re.compile(re.escape(prefix) + r"([a-z_]+(?:, [a-z_]+)*)")
     counts: dict[str, int] = {}
     for trial in trials:
-        found = FAILED_TERMS.search(trial.detail or "")
+        found = pattern.search(trial.detail or "")
         for term in found.group(1).split(", ") if found else ():
             counts[term] = counts.get(term, 0) + 1
     return ", ".join(f"{term} {n}" for term, n in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0])))

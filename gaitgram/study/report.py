@@ -24,12 +24,13 @@ Written files: ``summary.md``, ``summary.csv``, ``tables.tex``,
 ``summary.json``, ``convergence.png`` and ``convergence.svg``; for an arm whose
 runs keep a Pareto front (``nsga2``) ``front-ARM.png``, the fronts' objectives
 pairwise, and for one whose runs keep a repertoire (``map-elites``)
-``archive-ARM.png``, its cells as heat maps; for ``mujoco-horse`` arms the
-realism and robustness sections (``realism-*.csv``, ``robustness-*.csv``,
-``realism.png`` and ``realism.svg``), read from the assessments ``make_report(...,
-assess=True)`` (``gaitgram report --assess``) keeps in the run directories; on
-request, GIFs of each arm's best walk (beside it ``curves-ARM.png``, its gaits on
-the real walks' band), of trade-off gaits and of repertoire cells; last,
+``archive-ARM.png``, its cells as heat maps; for arms whose backend measures its
+gaits (``BackendSpec.assess``) the realism and robustness sections
+(``realism-*.csv``, ``robustness-*.csv``, ``realism.png`` and ``realism.svg``), read
+from the assessments ``make_report(..., assess=True)`` (``gaitgram report
+--assess``) keeps in the run directories; on request, GIFs, drawn by the backend
+(``BackendSpec.render``), of each arm's best walk (beside it ``curves-ARM.png``, its
+gaits on the real walks' band), of trade-off gaits and of repertoire cells; last,
 ``report.html``, all of it in one page.
 """
 
@@ -42,6 +43,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from gaitgram.backends.registry import backends_that
 from gaitgram.evolution.rundir import run_input
 from gaitgram.fileio import (
     Input,
@@ -54,10 +56,10 @@ from gaitgram.fileio import (
 )
 from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts, load_repertoire
 from gaitgram.study import escape
-from gaitgram.study.assess import MEASURED_ON, assess_arms
+from gaitgram.study.assess import assess_arms, assesses, assessing
 from gaitgram.study.figures import draw, rendered
 from gaitgram.study.formats import text_files
-from gaitgram.study.gallery import DRAWN_ON, check_cells, gaits_section, render_gaits, spread_cells
+from gaitgram.study.gallery import check_cells, draws, gaits_section, render_gaits, spread_cells
 from gaitgram.study.graded import graded_section
 from gaitgram.study.html import html
 from gaitgram.study.kept_gaits import arm_curves_figure, load_assessed, realism_section, robustness_section
@@ -142,15 +144,17 @@ def check_requests(
         for name, repertoire in repertoires.items():
             check_cells(name, repertoire, chosen)
     scored = scoring_listing(arms)
-    if assess and not any(a.backend == MEASURED_ON for a in arms):
+    if assess and not any(assessing(a.backend) for a in arms):
+        measured = " or ".join(backends_that(assesses)) or "no installed"
         raise ReportError(
-            f"--assess measures the best gaits of {MEASURED_ON} runs beside real horses and under "
+            f"--assess measures the best gaits of {measured} runs beside real gaits and under "
             f"disturbances; these arms were scored otherwise ({scored}): drop --assess"
         )
-    if (gaits or chosen) and not any(a.backend == DRAWN_ON for a in arms):
+    if (gaits or chosen) and not any(draws(a.backend) for a in arms):
         flag = f"--gaits {gaits}" if gaits else f"--cell {','.join(map(str, chosen[0]))}"
+        drawn = " or ".join(backends_that(lambda spec: spec.render is not None)) or "no installed"
         raise ReportError(
-            f"{flag}: gaits are drawn on the {DRAWN_ON} backend; these arms were scored otherwise "
+            f"{flag}: gaits are drawn on the {drawn} backend; these arms were scored otherwise "
             f"({scored}): drop {flag.split()[0]}"
         )
 

@@ -8,6 +8,7 @@ entry-point discovery runs in a fresh process.
 from __future__ import annotations
 
 import json
+import math
 import os
 import subprocess
 import sys
@@ -38,6 +39,7 @@ def plugin_env(tmp_path: Path) -> dict[str, str]:
     (info / "entry_points.txt").write_text(
         "[gaitgram.backends]\nneck-swing = gaitgram_example_backend:BACKEND\n"
         "crash-once = gaitgram_example_backend.crash_once:BACKEND\n"
+        "neck-drawn = gaitgram_example_backend.drawn:BACKEND\n"
     )
     path = os.pathsep.join([str(tmp_path), str(EXAMPLE), os.environ.get("PYTHONPATH", "")])
     return {**os.environ, "PYTHONPATH": path}
@@ -102,3 +104,54 @@ def test_a_lost_dask_worker_is_retried(plugin_env: dict[str, str], tmp_path: Pat
     assert (tmp_path / "dask/run-000/stats.csv").read_text() == (
         tmp_path / "local/run-000/stats.csv"
     ).read_text()
+
+
+def test_a_plugin_s_gaits_are_drawn_and_assessed_through_its_hooks(
+    plugin_env: dict[str, str], tmp_path: Path
+) -> None:
+    """``neck-drawn`` (tests/data/plugin_example/.../drawn.py) declares render, assess and assessment
+    hooks and a verdict: ``gaitgram render`` draws its gait with its frames, ``report --assess
+    --gaits 1`` keeps its assessments, shows its realism and robustness sections as it declares
+    them and animates its best "walk" (a swinging neck). Nothing above the backends knows it."""
+    from PIL import Image
+
+    (tmp_path / "g.gg").write_text(GRAMMAR.replace("@backend neck-swing", "@backend neck-drawn"))
+    config = tmp_path / "run.toml"
+    config.write_text(
+        "generations = 15\npopulation = 20\nelite = 2\ninit_max_depth = 5\nruns = 2\n\n"
+        "[backend_settings]\ntarget_amplitude = 25\n"
+    )
+    run = gaitgram(plugin_env, "evolve", "g.gg", "-c", str(config), "-o", "out", "-q", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    best = json.loads((tmp_path / "out" / "run-000" / "best.json").read_text())
+    assert best["joints"]["neck"] == "25*sin(2*PI*t)"
+
+    drawn = gaitgram(plugin_env, "render", "--run", "out", "-o", "neck.gif", "--fps", "7", cwd=tmp_path)
+    assert drawn.returncode == 0, drawn.stderr
+    gif = Image.open(tmp_path / "neck.gif")
+    assert "wrote neck.gif (14 frames)" in drawn.stderr  # the hook's: 7 a second, over 2 cycles
+    assert (gif.n_frames, gif.size) == (14, (480, 360))  # no two alike in a row, so GIF keeps each
+    for k in range(gif.n_frames):  # the bar sits where the best gait's neck is at that frame
+        gif.seek(k)
+        dark = [x for x in range(480) if gif.convert("L").getpixel((x, 180)) < 128]
+        expected = 240 + 25 * math.sin(2 * math.pi * k / 7) / 40 * 240
+        assert abs((dark[0] + dark[-1] + 1) / 2 - expected) <= 1.5, (k, dark)
+
+    seed = gaitgram(plugin_env, "render", "--run", "out", "--compare", "seed", "-o", "x.gif", cwd=tmp_path)
+    assert seed.returncode == 2
+    assert "--compare seed: the walk seed drives scapula_fore" in seed.stderr
+    assert "which backend 'neck-drawn' lacks" in seed.stderr
+    assert not (tmp_path / "x.gif").exists()
+
+    report = gaitgram(plugin_env, "report", "out", "-o", "report", "--assess", "--gaits", "1", cwd=tmp_path)
+    assert report.returncode == 0, report.stderr
+    kept = json.loads((tmp_path / "out" / "run-000" / "assessment.json").read_text())
+    assert (kept["backend"], kept["genome"]) == ("neck-drawn", best["genome"])
+    assert kept["realism"]["measures"]["amplitude"] == pytest.approx(25.0, abs=0.2)
+    summary = (tmp_path / "report" / "summary.md").read_text()
+    assert "**Necks beside a metronome** (each run's best gait)" in summary
+    assert "| neck amplitude (deg) | 30 | a metronome's |" in summary
+    assert "| neck: furthest forward (deg) | 30 | a metronome's |" in summary
+    assert "holds: gust" in summary
+    assert Image.open(tmp_path / "report" / "walk-out.gif").n_frames == 24  # the gallery's 12 fps, 2 cycles
+    assert (tmp_path / "report" / "realism.png").read_bytes()[:4] == b"\x89PNG"  # one curve, one panel

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from gaitgram.backends.mujoco_horse.render import labelled, side_by_side, write_strip
+from gaitgram.animation import labelled, side_by_side, write_strip
 from gaitgram.cli import app
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -12,7 +12,8 @@ from conftest import ROOT
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
 from gaitgram.backends.mujoco_horse.joints import CATALOGUE
 from gaitgram.backends.mujoco_horse.model import BUMP_HEIGHT, FLAT_START, bumpy_model
-from gaitgram.backends.mujoco_horse.realism import CURVES, MEASURES, _scores, assess, mean_phases, real_walks
+from gaitgram.backends.mujoco_horse.realism import _scores, assess, mean_phases
+from gaitgram.backends.mujoco_horse.reference import CURVES, MEASURES, real_walks
 from gaitgram.backends.mujoco_horse.robustness import (
     BUMP_SEEDS,
     DISTURBANCES,

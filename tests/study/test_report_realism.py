@@ -333,7 +333,12 @@ def test_a_report_over_the_first_runs_measures_their_best_walk_apart(
 
 
 def test_the_terms_a_disturbed_gait_failed_are_counted_from_its_detail() -> None:
+    from gaitgram.backends.registry import get_backend
     from gaitgram.study.kept_gaits import Trial, _failing_terms
+
+    declared = get_backend("mujoco-horse").assessment
+    assert declared is not None
+    words = declared().failed_terms  # the words the horse's trials write before the failed terms
 
     def trial(detail: str | None) -> Trial:
         return Trial("bumps", "", True, False, detail, 10, 3)
@@ -345,5 +350,6 @@ def test_the_terms_a_disturbed_gait_failed_are_counted_from_its_detail() -> None
         trial("something else entirely"),
         trial(None),
     ]
-    assert _failing_terms(trials) == "speed 3, footfalls 1, stride_length 1"
-    assert _failing_terms([]) == ""
+    assert _failing_terms(trials, words) == "speed 3, footfalls 1, stride_length 1"
+    assert _failing_terms(trials, "") == ""  # a backend that declares no such words: nothing counted
+    assert _failing_terms([], words) == ""

@@ -59,7 +59,7 @@ SENSOR_NOT_READABLE = Code(
     "sensor-not-readable-by-joint",
     E,
     "a joint's curve reads a sensor its joint group cannot read",
-    "A per-limb sensor (such as `mujoco-horse`'s `load`, `contact` or `phase`) reads the limb of "
+    "A per-limb sensor (such as the horse's `load`, `contact` or `phase`) reads the limb of "
     "the joint whose curve uses it, so a joint that drives no limb (a neck joint) cannot read it. "
     "Read it only from rules that limb joints reach, or use a sensor of the whole body.",
 )

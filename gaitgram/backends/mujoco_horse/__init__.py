@@ -9,15 +9,18 @@ from functools import cache
 from typing import Any
 
 from gaitgram.backends.api import Verdict
-from gaitgram.backends.mujoco_horse.bodies import BODIES, SCALINGS
+from gaitgram.backends.mujoco_horse.bodies import BODIES, NOMINAL_HIP_HEIGHT, SCALINGS
 from gaitgram.backends.mujoco_horse.joints import CATALOGUE, SENSORS
+from gaitgram.backends.mujoco_horse.reference import assessment
 from gaitgram.backends.mujoco_horse.settings import WEIGHT_NAMES, HorseSettings, weights_in_force
 from gaitgram.backends.mujoco_horse.targets import (
     CYCLE_FREQUENCIES,
+    DEFAULT_FROUDE,
     DEFAULT_WEIGHTS,
     TASK_REVISION,
     WALK_COMPONENTS,
     WALK_CRITERION,
+    stride_frequency,
     unviable_fitness,
 )
 from gaitgram.backends.registry import BackendSpec
@@ -56,6 +59,13 @@ def assess(settings: Mapping[str, Any], motion: Any) -> list[dict[str, Any]]:
     from gaitgram.backends.mujoco_horse.assessment import assess_gaits
 
     return assess_gaits(settings, motion)
+
+
+def render(settings: Mapping[str, Any], motion: Any, **how: Any) -> list[list[Any]]:
+    """Import MuJoCo only to draw gaits (``gaitgram render``, a report's GIFs)."""
+    from gaitgram.backends.mujoco_horse.render import render as draw
+
+    return draw(settings, motion, **how)
 
 
 def check_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
@@ -109,5 +119,9 @@ BACKEND = BackendSpec(
     retarget=retarget,
     retarget_scalings=SCALINGS,
     assess=assess,
+    assessment=assessment,
+    render=render,
+    # The target's stride frequency on the nominal horse, at the default Froude number.
+    cycle_frequency=stride_frequency(DEFAULT_FROUDE, NOMINAL_HIP_HEIGHT),
     sensors=SENSORS,
 )

@@ -25,10 +25,8 @@ compare, not its offset to the degree.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field, replace
-from functools import cache
 from typing import Any
 
 import mujoco
@@ -38,16 +36,10 @@ from numpy.typing import NDArray
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
 from gaitgram.backends.mujoco_horse.measures import HOOVES, measure_cycles, strides, touchdowns, window
 from gaitgram.backends.mujoco_horse.model import STATE_SPEC
+from gaitgram.backends.mujoco_horse.reference import CURVE_SAMPLES, CURVES, real_walks
 from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles
 from gaitgram.backends.mujoco_horse.targets import G, duty_factor_for
 from gaitgram.motion.gait import MotionBatch
-from gaitgram.packaged import packaged
-
-#: Phases at which the real walks' curves are given.
-CURVE_SAMPLES = 20
-CURVES = ("fetlock_fore", "fetlock_hind", "protraction_fore", "protraction_hind")
-#: The measures the realism distance averages, in the order reports list them.
-MEASURES = ("duty_factor", "phase_fore_left", "phase_hind_right", "phase_fore_right", *CURVES)
 
 #: The model's landmark for each DLC keypoint of the left limbs: a body's origin, or a site.
 _LANDMARKS = {
@@ -66,19 +58,13 @@ _LIMBS = {  # curve end -> (hoof index in HOOVES, fetlock, upper, body landmark)
 }
 
 
-@cache
-def real_walks() -> dict[str, Any]:
-    """The DLC_Horse summary shipped with gaitgram (``seeds/dlc_walk.json``)."""
-    return json.loads(packaged("gaitgram.seed", "dlc_walk.json").read_text(encoding="utf-8"))
-
-
 @dataclass(frozen=True)
 class Realism:
     """One gait's measures beside the real walks'."""
 
     measures: dict[str, float]  # duty factor, phases; curve ranges of motion (degrees)
     curves: dict[str, NDArray[np.float64]]  # each over one stride, CURVE_SAMPLES phases
-    scores: dict[str, float]  # per measure of MEASURES: how far from the real walks, in their spread
+    scores: dict[str, float]  # per measure of reference.MEASURES: distance from the real walks in spreads
     distance: float  # the mean of the scores
     #: The scored window's speed, stride length and frequency, and what the Froude relations
     #: predict at that speed for this body (Alexander & Jayes' duty factor, Alexander's stride).

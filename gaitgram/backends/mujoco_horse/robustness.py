@@ -52,6 +52,7 @@ import numpy as np
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
 from gaitgram.backends.mujoco_horse.measures import cycle_edges, measure_cycles
 from gaitgram.backends.mujoco_horse.model import BUMP_HEIGHT, bumpy_model, load_model
+from gaitgram.backends.mujoco_horse.reference import NOT_WALKING
 from gaitgram.backends.mujoco_horse.settings import TEST_FLOORS, HorseSettings, warmup_cycles
 from gaitgram.backends.mujoco_horse.task import walk_terms
 from gaitgram.motion.gait import MotionBatch
@@ -160,7 +161,7 @@ def _played(
         )
         terms = walk_terms(last, evaluator.targets)
         failed = [t for t in RECOVERED_TERMS if not terms[t]]
-        detail = f"not walking again: {', '.join(failed)}" if failed else None
+        detail = f"{NOT_WALKING}{', '.join(failed)}" if failed else None
         trials.append(Trial(disturbance, True, not failed, detail, held=int(not failed)))
     return trials
 

@@ -163,13 +163,24 @@ def duty_factor_for(froude: float) -> float:
     return float(np.interp(froude, xs, ys))
 
 
+def _speed_and_stride(froude: float, hip_height: float) -> tuple[float, float]:
+    """The speed (m/s) at Froude number ``froude`` and Alexander's stride (m) at that speed."""
+    return froude * math.sqrt(G * hip_height), hip_height * 2.3 * (froude**2) ** 0.3
+
+
+def stride_frequency(froude: float, hip_height: float) -> float:
+    """The target's stride frequency (Hz), as :func:`walk_targets` gives it, without numpy: what the
+    backend declares it plays a gait at (``BackendSpec.cycle_frequency``)."""
+    velocity, stride = _speed_and_stride(froude, hip_height)
+    return velocity / stride
+
+
 def walk_targets(froude: float = DEFAULT_FROUDE, hip_height: float = 1.14) -> GaitTargets:
     if not 0 < froude <= 2.5:
         raise ValueError(f"froude must be in (0, 2.5], not {froude}")
     if hip_height <= 0:
         raise ValueError("hip_height must be positive")
-    velocity = froude * math.sqrt(G * hip_height)
-    stride = hip_height * 2.3 * (froude**2) ** 0.3
+    velocity, stride = _speed_and_stride(froude, hip_height)
     return GaitTargets(
         froude=froude,
         hip_height=hip_height,
