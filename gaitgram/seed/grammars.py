@@ -444,10 +444,12 @@ _WRITERS: dict[Style, Callable[[list[str], Mapping[str, SineFit], JointCatalogue
 }
 
 
-def seed_genome(grammar: Grammar) -> tuple[int, ...]:
+def seed_genome(grammar: Grammar, picks: Mapping[str, int] | None = None) -> tuple[int, ...]:
     """The lazy-mode genome that derives the seed unchanged from a concatenating, hybrid or
     numerical grammar: choice 0 (the plain seed) wherever there is a choice, except in a typed
-    range, where the middle value is picked: the seed's own number in a ``± 25%`` range."""
+    range, where the middle value is picked: the seed's own number in a ``± 25%`` range (in the
+    feedback grammars, every gain 0). ``picks`` takes another choice of the rules it names (the
+    seed with a feedback gain: ``{"pitch_gain": 20}``)."""
     cfg = build_cfg(grammar)
     assert cfg.start is not None
     genome: list[int] = []
@@ -457,7 +459,7 @@ def seed_genome(grammar: Grammar) -> tuple[int, ...]:
         choices = cfg.choices[rule]
         # A range rule, or a rule that is one range on its own (all choices from one alternative).
         ranged = cfg.kinds[rule] is RuleKind.RANGE or len(set(cfg.alternative_of[rule])) == 1
-        choice = len(choices) // 2 if ranged else 0
+        choice = (picks or {}).get(cfg.names[rule], len(choices) // 2 if ranged else 0)
         if len(choices) > 1:
             genome.append(choice)
         stack.extend(item for item in reversed(choices[choice]) if isinstance(item, int))

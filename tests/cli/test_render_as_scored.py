@@ -13,8 +13,8 @@ import numpy as np
 from PIL import Image, ImageSequence
 
 from conftest import GRAMMARS, ROOT
-from gaitgram.analysis.cfg import RuleKind, build_cfg
 from gaitgram.language import load
+from gaitgram.seed.grammars import seed_genome
 
 ENV = {**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl"), "COLUMNS": "300"}
 FEEDBACK = GRAMMARS / "hybrid-feedback.gg"
@@ -27,21 +27,8 @@ def gaitgram(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
 
 
 def seed_with(grammar: Path, **picks: int) -> str:
-    """The (lazy) genome that derives the grammar's seed, as ``seed_genome`` picks it (the first
-    alternative, the middle of a range: every feedback gain 0), but choice ``picks[rule]`` where
-    given."""
-    cfg = build_cfg(load(grammar))
-    assert cfg.start is not None
-    genome, stack = [], [cfg.start]
-    while stack:
-        rule = stack.pop()
-        choices = cfg.choices[rule]
-        ranged = cfg.kinds[rule] is RuleKind.RANGE or len(set(cfg.alternative_of[rule])) == 1
-        choice = picks.get(cfg.names[rule], len(choices) // 2 if ranged else 0)
-        if len(choices) > 1:
-            genome.append(choice)
-        stack.extend(item for item in reversed(choices[choice]) if isinstance(item, int))
-    return ",".join(map(str, genome))
+    """The genome of the grammar's seed (every feedback gain 0), with ``picks`` chosen otherwise."""
+    return ",".join(map(str, seed_genome(load(grammar), picks)))
 
 
 def frames(path: Path) -> list[np.ndarray]:
