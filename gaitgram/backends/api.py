@@ -193,6 +193,17 @@ class VerifyingEvaluator(Evaluator, Protocol):
     ) -> list[Evaluation]: ...
 
 
+@runtime_checkable
+class CountingEvaluator(Evaluator, Protocol):
+    """An evaluator that counts the simulation steps it has run (by ``evaluate`` and ``verify``,
+    summed over gaits): a physics backend's unit of work. A run records them beside its time in
+    the backend (``gaitgram.evolution.usage``), so its cost against the raw simulation comes from
+    the run itself. Optional: a run of another backend records its time alone."""
+
+    @property
+    def simulated_steps(self) -> int: ...
+
+
 class SettingsError(ValueError):
     """A backend setting that cannot be used: ``key`` names it (dotted for nested tables)."""
 

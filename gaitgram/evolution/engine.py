@@ -19,6 +19,15 @@ import numpy as np
 from gaitgram.backends.api import Evaluator, VerifyingEvaluator
 from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint, save_checkpoint
 from gaitgram.evolution.records import record_text, run_records
+from gaitgram.evolution.usage import (
+    GenerationUsage,
+    RunUsage,
+    UsageError,
+    metered,
+    read_usage,
+    recorded,
+    write_usage,
+)
 from gaitgram.fileio import write_atomically
 from gaitgram.pipeline import Genome, Individual, Pipeline
 from gaitgram.strategies.api import (
@@ -168,8 +177,13 @@ def run_evolution(
     strategy = load_strategy(pipeline)
     context = replace(run_context(pipeline, run), start=tuple(start))
     checkpoint = run_dir / "checkpoint.json"
+    meter = metered(evaluator)  # what each generation spends in the backend, kept in backend.json
+    spent: list[GenerationUsage] = []
 
     def record(state: RunState) -> None:
+        # Usage first: a kill before the checkpoint leaves an entry the resume redoes and replaces.
+        spent.append(meter.take(state.generation))
+        write_usage(run_dir, RunUsage(tuple(spent)))
         save_checkpoint(checkpoint, state, fingerprint=fingerprint, run=run)
         for name, text in run_files(pipeline, strategy, context, state).items():
             write_atomically(run_dir / name, text)
@@ -186,10 +200,15 @@ def run_evolution(
             state.memory = strategy.restore(context, state.memory)
         except StrategyError as error:
             raise CheckpointError(f"{checkpoint}: {error}; it cannot be resumed") from None
+        try:
+            before = read_usage(run_dir)
+        except UsageError:  # a damaged record of measurements: counted afresh from here
+            before = None
+        spent += recorded(before.generations if before else (), state.generation)
     else:
-        state = begin(strategy, context, evaluator)
+        state = begin(strategy, context, meter)
         record(state)
     while state.generation < config.generations and not should_stop():
-        state = advance(strategy, context, state, evaluator)
+        state = advance(strategy, context, state, meter)
         record(state)
     return state

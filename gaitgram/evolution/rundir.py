@@ -11,7 +11,8 @@ Layout::
                     its settings spelt out
     run-000/ ...    one directory per run: checkpoint.json, stats.csv, stats.jsonl, best.json, and
                     for strategies other than GE the pickled strategy state the checkpoint
-                    names (strategy-NNNNNN.pickle) and the strategy's records (front.json, ...)
+                    names (strategy-NNNNNN.pickle) and the strategy's records (front.json, ...);
+                    backend.json, what each generation spent in the backend (``usage``)
     summary.json    written when every run has finished
 
 Opening a run directory verifies it before anything runs: an edited

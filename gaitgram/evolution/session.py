@@ -14,6 +14,7 @@ from gaitgram.backends.api import Evaluator
 from gaitgram.evolution.engine import run_evolution
 from gaitgram.evolution.rundir import RunDirectory
 from gaitgram.evolution.transfer import start_genomes
+from gaitgram.evolution.usage import UsageError, read_usage
 from gaitgram.fileio import write_atomically
 from gaitgram.strategies.api import GenerationStats, RunState
 
@@ -63,6 +64,8 @@ def run_session(
 
 
 def summary(directory: RunDirectory, states: list[RunState]) -> dict[str, Any]:
+    """What the runs found, and what each spent in the backend where it recorded it
+    (``backend_usage``: steps simulated, seconds inside the backend, the generations counted)."""
     bests = [s.best for s in states]
     return {
         "grammar": "grammar.gg",  # the copy in the run directory: the text the runs used
@@ -76,11 +79,22 @@ def summary(directory: RunDirectory, states: list[RunState]) -> dict[str, Any]:
                 "status": b.evaluation.status.value,
                 "phenotype": b.phenotype,
                 "generations": s.generation,
+                **_usage(directory.run_dir(r)),
             }
             for r, (s, b) in enumerate(zip(states, bests, strict=True))
         ],
         "best_fitness": min(b.fitness for b in bests),
     }
+
+
+def _usage(run_dir: Path) -> dict[str, Any]:
+    """A run's recorded usage as a summary shows it: nothing for a run that records none (runs
+    made before runs recorded it keep their summaries) or whose record is damaged."""
+    try:
+        usage = read_usage(run_dir)
+    except UsageError:
+        return {}
+    return {} if usage is None else {"backend_usage": usage.as_record()}
 
 
 @contextmanager

@@ -25,6 +25,7 @@ from gaitgram import jsonio
 from gaitgram.backends.api import Verdict
 from gaitgram.backends.registry import get_backend
 from gaitgram.evolution.rundir import CONFIG, MANIFEST, RunDirectoryError, read_manifest, saved_config
+from gaitgram.evolution.usage import RunUsage, UsageError, read_usage
 from gaitgram.language.source import path_problem
 from gaitgram.pipeline import DEFAULT_BACKEND
 from gaitgram.plugins import PluginLoadError, PluginNotFound
@@ -54,6 +55,8 @@ class RunRecord:
     holds_walk: bool | None = None
     #: Per generation, the share of the population that is a walk (None: the records do not say).
     walk_share: np.ndarray | None = None
+    #: What the run spent in its backend, as it recorded it (None: a run made before runs did).
+    usage: RunUsage | None = None
 
     @property
     def first_walk(self) -> int | None:
@@ -267,7 +270,15 @@ def _load_run(path: Path, generations: int, redo: str, verdict: Verdict | None) 
         else verdict.holds_in(components, viable=best_record["status"] == "ok"),
         holds_walk=_holds_walk(path, records[-1], verdict),
         walk_share=_walk_share(records, verdict),
+        usage=_usage(path),
     )
+
+
+def _usage(path: Path) -> RunUsage | None:
+    try:
+        return read_usage(path)
+    except UsageError as error:
+        raise ReportError(str(error)) from None
 
 
 def _walk_share(records: list[dict[str, Any]], verdict: Verdict | None) -> np.ndarray | None:

@@ -77,6 +77,7 @@ from gaitgram.study.model import (
     walk_rates_section,
 )
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable, load_arms, scoring_listing
+from gaitgram.study.usage import usage_section
 
 HTML = "report.html"
 
@@ -120,6 +121,7 @@ def study_report(
         robustness_section(arms, assessed),
         graded_section(arms, assessed),
         gallery and _beside_the_real_walks(gallery, arms, assessed),
+        usage_section(arms),
     )
     return build_report(
         arms, title=title, sections=[s for s in sections if s is not None], mixed_scoring=mixed_scoring

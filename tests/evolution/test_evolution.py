@@ -13,6 +13,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
+from measured import summary_results
 from typer.testing import CliRunner
 
 from conftest import CURVE_GRAMMAR, CURVE_TARGETS, CURVE_TARGETS_TOML
@@ -236,9 +237,9 @@ def test_a_stopped_session_resumes_to_the_uninterrupted_result(
             assert (tmp_path / "stopped" / f"run-{r:03d}" / name).read_bytes() == (
                 tmp_path / "whole" / f"run-{r:03d}" / name
             ).read_bytes(), name
-    assert (tmp_path / "stopped" / "summary.json").read_bytes() == (
+    assert summary_results(tmp_path / "stopped" / "summary.json") == summary_results(
         tmp_path / "whole" / "summary.json"
-    ).read_bytes()
+    )
 
 
 def test_ctrl_c_stops_after_the_generation_and_the_resume_gives_the_uninterrupted_result(
@@ -266,7 +267,9 @@ def test_ctrl_c_stops_after_the_generation_and_the_resume_gives_the_uninterrupte
         assert (interrupted / "run-000" / name).read_text() == (
             tmp_path / "whole" / "run-000" / name
         ).read_text()
-    assert (interrupted / "summary.json").read_text() == (tmp_path / "whole" / "summary.json").read_text()
+    assert summary_results(interrupted / "summary.json") == summary_results(
+        tmp_path / "whole" / "summary.json"
+    )
 
 
 @pytest.mark.slow
@@ -300,7 +303,9 @@ def test_a_run_killed_with_kill_9_resumes_to_the_uninterrupted_result(tmp_path: 
         assert (interrupted / "run-000" / name).read_text() == (
             tmp_path / "whole" / "run-000" / name
         ).read_text()
-    assert (interrupted / "summary.json").read_text() == (tmp_path / "whole" / "summary.json").read_text()
+    assert summary_results(interrupted / "summary.json") == summary_results(
+        tmp_path / "whole" / "summary.json"
+    )
 
 
 def test_dask_local_cluster_gives_the_local_result(tmp_path: Path) -> None:

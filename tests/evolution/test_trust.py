@@ -15,6 +15,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
+from measured import summary_results
 from typer.testing import CliRunner
 
 from conftest import CURVE_GRAMMAR, CURVE_TARGETS, CURVE_TARGETS_TOML
@@ -462,7 +463,9 @@ def test_resume_with_more_runs_adds_them_and_equals_a_fresh_run(tmp_path: Path, 
     for run in range(3):
         name = f"run-{run:03d}/stats.csv"
         assert (finished_run / name).read_text() == (tmp_path / "fresh" / name).read_text()
-    assert (finished_run / "summary.json").read_text() == (tmp_path / "fresh" / "summary.json").read_text()
+    assert summary_results(finished_run / "summary.json") == summary_results(
+        tmp_path / "fresh" / "summary.json"
+    )
     fewer = evolve("--resume", str(finished_run), "--runs", "2")
     assert fewer.exit_code == 2
     assert "runs: 3 -> 2" in fewer.stderr

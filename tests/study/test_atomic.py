@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from measured import comparable
 from study.report_fixtures import write_hand_made_study
 from typer.testing import CliRunner
 
@@ -126,9 +127,10 @@ def run_until(root: Path, args: list[str], limit: int | None) -> list[str]:
 
 
 def tree(directory: Path) -> dict[str, bytes]:
-    """Every file under a directory (its lock files aside), by relative path."""
+    """Every file under a directory (its lock files aside), by relative path; a run's records of
+    its time in the backend without the seconds (the machine's, no result)."""
     return {
-        str(p.relative_to(directory)): p.read_bytes()
+        str(p.relative_to(directory)): comparable(p)
         for p in sorted(directory.rglob("*"))
         if p.is_file() and p.name != ".lock"
     }
