@@ -208,8 +208,10 @@ class HorseEvaluator:
         self._gap_steps = max(1, round(TOUCHDOWN_GAP_SECONDS / self.dt))
         nq, nv = self.model.nq, self.model.nv
         self._hinge_vel = slice(1 + nq + self.layout.root_dofs, 1 + nq + nv)  # joint speeds in a state vector
-        self._act_q = 1 + np.asarray(self.layout.actuator_qpos)
-        self._act_v = 1 + nq + np.asarray(self.layout.actuator_dof)
+        # The actuators' joint positions and speeds in a state vector: slices where they run in order
+        # (read as views of the records, not copied out of them).
+        self._act_q = _columns(1 + np.asarray(self.layout.actuator_qpos))
+        self._act_v = _columns(1 + nq + np.asarray(self.layout.actuator_dof))
         self._start = self._standing_records()
 
     @property
@@ -682,14 +684,13 @@ class HorseEvaluator:
 
         # Actuator power: |force x joint speed| per step, from the position servos' law.
         model = self.model
-        act_q = state[:, :, self._act_q]
+        act_q = state[:, :, self._act_q]  # views of the records where they can be: never written
         act_v = state[:, :, self._act_v]
         kp = -model.actuator_biasprm[:, 1]
         kv = -model.actuator_biasprm[:, 2]
         with np.errstate(all="ignore"):  # in place: these arrays are gaits x steps x actuators
             force = control * model.actuator_gainprm[:, 0]
-            act_q *= kp
-            force -= act_q
+            force -= act_q * kp
             force -= kv * act_v
             np.clip(force, model.actuator_forcerange[:, 0], model.actuator_forcerange[:, 1], out=force)
             force *= act_v
@@ -774,6 +775,13 @@ def on_floors(flat: Evaluation, bumpy: Sequence[Evaluation], seeds: Sequence[int
     bumps = float(np.mean([evaluation.fitness for evaluation in bumpy]))
     fitness = (flat.fitness + bumps * len(bumpy)) / (1 + len(bumpy))
     return replace(flat, fitness=fitness, components={**flat.components, "bumps_fitness": bumps})
+
+
+def _columns(indices: np.ndarray) -> np.ndarray | slice:
+    """Column indices as a slice where they run in order (a slice reads a view, indices a copy)."""
+    if len(indices) and np.array_equal(indices, np.arange(indices[0], indices[0] + len(indices))):
+        return slice(int(indices[0]), int(indices[0]) + len(indices))
+    return indices
 
 
 def _tilt(quat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
