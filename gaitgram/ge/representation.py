@@ -26,7 +26,7 @@ from typing import Any, NamedTuple, Protocol, TypeVar
 import numpy as np
 
 from gaitgram.analysis.cfg import Cfg, Item
-from gaitgram.analysis.facts import GrammarFacts, min_depths, reachable_from
+from gaitgram.analysis.facts import GrammarFacts, min_depths, occurrence_bounds, reachable_from
 from gaitgram.ge.derivation import InvalidReason
 from gaitgram.ge.initialisation import Method, _pick
 from gaitgram.ge.mapper import CodonMode, Mapper, MapperError, compile_mapper
@@ -113,6 +113,9 @@ class GrammarTables:
     children: tuple[tuple[tuple[int, ...], ...], ...]
     #: The joint rules, numbered as their markers number them.
     joint_rules: tuple[int, ...]
+    #: When no derivation holds a joint rule twice: each joint name, in the grammar's order, with
+    #: its rule's opening and closing markers (the fast cut); else empty.
+    joint_markers: tuple[tuple[str, int, int], ...]
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -128,6 +131,11 @@ class GrammarTables:
         """Each joint's phenotype, from the markers :func:`decode_genes` and :func:`decode_sequence`
         record: the text between its rule's first opening and the matching close (nested
         occurrences of the same rule are inside it)."""
+        if self.joint_markers:  # each marker met once at most: where each one is, in one pass in C
+            where = dict(zip(marks[::2], marks[1::2], strict=True))
+            return {
+                name: "".join(out[where[o] : where[c]]) for name, o, c in self.joint_markers if o in where
+            }
         opened: dict[int, int] = {}
         nesting: dict[int, int] = {}
         texts: dict[int, str] = {}
@@ -185,6 +193,17 @@ def grammar_tables(source: Grammar | Cfg, joints: Mapping[str, str] | None = Non
     if depth[base.start] is None:
         raise MapperError(f"the start rule <{cfg.names[base.start]}> derives no finite phenotype")
     joint_rules = tuple(base.joint_rules)
+    joint_markers: tuple[tuple[str, int, int], ...] = ()
+    if all(occurrence_bounds(cfg, r, facts.productive)[1] <= 1 for r in joint_rules):
+        rule_of = {name: r for r, names in base.joint_rules.items() for name in names}
+        joint_markers = tuple(
+            (
+                name,
+                _OPEN - 2 * joint_rules.index(rule_of[name]),
+                _OPEN - 2 * joint_rules.index(rule_of[name]) - 1,
+            )
+            for name in base._joint_order
+        )
     ops = tuple(
         tuple(make_op(items, joint_rules.index(r) if r in joint_rules else None) for items in choices)
         for r, choices in enumerate(base.productions)
@@ -192,7 +211,7 @@ def grammar_tables(source: Grammar | Cfg, joints: Mapping[str, str] | None = Non
     children = tuple(
         tuple(tuple(i for i in choice if isinstance(i, int)) for choice in choices) for choices in cfg.choices
     )
-    return GrammarTables(cfg, facts, base.start, base, ops, children, joint_rules)
+    return GrammarTables(cfg, facts, base.start, base, ops, children, joint_rules, joint_markers)
 
 
 def decode_genes(
