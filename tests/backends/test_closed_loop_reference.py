@@ -16,6 +16,8 @@ from gaitgram.backends.mujoco_horse.joints import CATALOGUE
 from gaitgram.backends.registry import get_backend
 from gaitgram.motion.gait import MotionBatch, motion_batch
 from gaitgram.pipeline import sensors_of
+from gaitgram.seed.data import load_seed
+from gaitgram.seed.grammars import fit_seed
 
 HORSE_SENSORS = sensors_of(get_backend("mujoco-horse"))
 STEPS = 1000  # 2 s: past the ramp, several landings of every hoof
@@ -72,15 +74,37 @@ def _reference(evaluator: HorseEvaluator, batch: MotionBatch, gait: int, states,
     return controls
 
 
-@pytest.mark.parametrize("grammar", ["hybrid-feedback.gg", "hybrid-reset.gg"])
+def _seed_loops() -> MotionBatch:
+    """The seed's curves with loops of several shapes, one curve's differing from gait to gait
+    (sensors alone, sensors on a slot, a slot of the oscillator's phase), played at the target's
+    frequency."""
+    texts = {joint: fit.text for joint, fit in fit_seed(load_seed()).items()}
+    gaits = []
+    for k in range(6):
+        gait = dict(texts)
+        gait["hip_hind"] = f"{texts['hip_hind']}+{0.1 * k}*pitch-{0.02 * k}*pitch_rate"
+        gait["fetlock_fore"] = f"{texts['fetlock_fore']}+{k}*(load-1)"
+        gait["fetlock_hind"] = texts["fetlock_hind"].replace("*t", "*(phase+0.05)")
+        if k % 2:
+            gait["shoulder_fore"] = f"{k}*pitch"
+        gaits.append(gait)
+    return motion_batch(gaits, CATALOGUE.names, sensors=HORSE_SENSORS)
+
+
+@pytest.mark.parametrize("grammar", ["hybrid-feedback.gg", "hybrid-reset.gg", "seed"])
 def test_controls_are_the_definitions_bit_for_bit_as_gaits_drop_out(grammar: str) -> None:
     """Chunks of 33 steps cut ticks in two; one gait drops out after each chunk, so the loop is
-    asked for fewer gaits as it goes; the gaits evolve their frequencies (several in play)."""
-    batch = populations.generation_zero(grammar, size=8, seed=3)
-    usable = [g for g in range(len(batch)) if batch.problems[g] is None]
-    batch = batch.take(usable[:6])
+    asked for fewer gaits as it goes; the grammars' gaits evolve their frequencies (several in
+    play), the seed's play the target's."""
+    if grammar == "seed":
+        batch = _seed_loops()
+        assert batch.frequencies is None
+    else:
+        batch = populations.generation_zero(grammar, size=8, seed=3)
+        usable = [g for g in range(len(batch)) if batch.problems[g] is None]
+        batch = batch.take(usable[:6])
+        assert len(np.unique(batch.frequencies)) > 1
     assert batch.closed_loop
-    assert len(np.unique(batch.frequencies)) > 1
     evaluator = HorseEvaluator(chunk_steps=33)
     gaits = len(batch)
     nstate = evaluator.rollout.nstate
