@@ -17,7 +17,9 @@ body's target frequency): evaluations/s and the ratio to the horse's, measured i
 A body's time step and its cycle both scale with the square root of its size (dynamic
 similarity), so every body simulates about the same number of steps for its cycles, and should
 evaluate at about the horse's rate (measured: 0.86-1.00 of it). Last, the evolved population
-scored on bump floors besides the flat one (``bump_floors``), its time against the flat floor's.
+scored on bump floors besides the flat one (``bump_floors``): its time, steps and time per step
+against the flat floor's, and the raw rollout's time per step on each floor against the flat's
+(what MuJoCo itself charges for the height field's contacts).
 
 All run the same model on the same gaits in the same process, measurements interleaved and the
 best of several taken (the machine's load drifts). The raw figure is ``mujoco.rollout`` of each
@@ -90,19 +92,21 @@ def timed(work) -> float:
     return time.perf_counter() - start
 
 
-def raw_rollout(evaluator: HorseEvaluator, batch: MotionBatch, rows: np.ndarray) -> tuple[int, float]:
-    """Steps and seconds of the raw ``mujoco.rollout`` of each gait for exactly the steps its
-    evaluation would simulate were none dropped: gaits of one length in one call (threads share
-    it), building the controls untimed."""
+def raw_rollout(evaluator: HorseEvaluator, batch: MotionBatch, rows: np.ndarray) -> tuple[int, float, float]:
+    """Steps, wall seconds and CPU seconds (the process's, every thread) of the raw
+    ``mujoco.rollout`` of each gait for exactly the steps its evaluation would simulate were none
+    dropped: gaits of one length in one call (threads share it), building the controls untimed."""
     frequencies = evaluator.frequencies(batch, rows)
     ends = evaluator.ends(frequencies)
-    seconds, steps = 0.0, 0
+    seconds, cpu, steps = 0.0, 0.0, 0
     for length in np.unique(ends):
         group = rows[ends == length]
         control = evaluator.controls(batch, group)[:, :length]
+        start = time.process_time()
         seconds += timed(lambda control=control: evaluator.simulate(control))
+        cpu += time.process_time() - start
         steps += len(group) * int(length)
-    return steps, seconds
+    return steps, seconds, cpu
 
 
 def compare(evaluator: HorseEvaluator, batch: MotionBatch) -> tuple[int, float, float, float, int]:
@@ -177,23 +181,59 @@ def main() -> None:
 
 def on_bump_floors(threads: int) -> None:
     """The price of ``bump_floors``: the evolved population scored on the flat floor and on 1 and 3
-    bump floors besides, against the flat floor alone in the same run (expected: about 1 + floors
-    times, less where gaits fall on the flat and are not played on the floors)."""
+    bump floors besides, against the flat floor alone in the same run, in time, in steps and per
+    step (a gait that falls on the flat is not played on the floors, nor one that falls on a
+    floor on the floors after it). Then what MuJoCo itself charges for a step on a floor of bumps:
+    the raw ``mujoco.rollout`` of the same controls on the flat and on each floor, per step, wall
+    and CPU: the height field's contacts, which the model has, and no evaluation overhead."""
     batch = evolved()
-    print(f"\n{'bump floors':<12} {'steps':>8} {'mujoco-horse':>16} {'time vs flat':>12}")
-    flat = None
-    for floors in ((), (0,), (0, 1, 2)):
-        evaluator = HorseEvaluator(HorseSettings(threads=threads, bump_floors=floors or None))
-        try:
+    print(
+        f"\n{'bump floors':<12} {'steps':>8} {'mujoco-horse':>16} {'time vs flat':>12} {'steps vs flat':>13} "
+        f"{'per step vs flat':>16} {'cpu per step':>12}"
+    )
+    evaluators = [
+        HorseEvaluator(HorseSettings(threads=threads, bump_floors=floors or None))
+        for floors in ((), (0,), (0, 1, 2))
+    ]
+    try:
+        steps, walls, cpus = [], [float("inf")] * 3, [float("inf")] * 3
+        for evaluator in evaluators:
             evaluator.evaluate(batch)  # warm-up, and the floors built
             before = evaluator.simulated_steps
             evaluator.evaluate(batch)
-            steps = evaluator.simulated_steps - before
-            best = min(timed(lambda e=evaluator: e.evaluate(batch)) for _ in range(ROUNDS))
-            flat = flat or best
-            label = ", ".join(map(str, floors)) or "none (flat)"
-            print(f"{label:<12} {steps:8d} {len(batch) / best:8.1f} evals/s {best / flat:12.2f}")
-        finally:
+            steps.append(evaluator.simulated_steps - before)
+        for _ in range(ROUNDS):  # interleaved
+            for k, evaluator in enumerate(evaluators):
+                cpu = time.process_time()
+                walls[k] = min(walls[k], timed(lambda e=evaluator: e.evaluate(batch)))
+                cpus[k] = min(cpus[k], time.process_time() - cpu)
+        for floors, n, wall, cpu in zip(("none (flat)", "0", "0, 1, 2"), steps, walls, cpus, strict=True):
+            print(
+                f"{floors:<12} {n:8d} {len(batch) / wall:8.1f} evals/s {wall / walls[0]:12.2f} "
+                f"{n / steps[0]:13.2f} {(wall / n) / (walls[0] / steps[0]):16.2f} "
+                f"{(cpu / n) / (cpus[0] / steps[0]):12.2f}"
+            )
+        flat, floored = evaluators[0], evaluators[2]
+        control = flat.controls(batch, np.arange(len(batch)))
+        models = [("flat", flat), *((f"floor {seed}", floor) for seed, floor in floored.floors)]
+        raw = {name: [float("inf"), float("inf")] for name, _ in models}
+        for _ in range(ROUNDS):  # interleaved
+            for name, evaluator in models:
+                cpu = time.process_time()
+                wall = timed(lambda e=evaluator: e.simulate(control))
+                raw[name] = [min(raw[name][0], wall), min(raw[name][1], time.process_time() - cpu)]
+        simulated = control.shape[0] * control.shape[1]
+        print(
+            f"raw mujoco.rollout of the same {simulated} steps, per step against the flat "
+            f"(best of {ROUNDS}): "
+            + ", ".join(
+                f"{name} {wall / raw['flat'][0]:.2f} wall, {cpu / raw['flat'][1]:.2f} CPU "
+                f"({cpu / simulated * 1e6:.1f} us/step)"
+                for name, (wall, cpu) in raw.items()
+            )
+        )
+    finally:
+        for evaluator in evaluators:
             evaluator.close()
 
 
