@@ -508,7 +508,9 @@ class ClosedLoop:
             result = run_skeleton(
                 group.skeleton, placed.constants, [values_t[:, steps] for values_t in slots], held
             )
-            result = np.broadcast_to(result, (len(placed.members), last - first, placed.actuators.shape[1]))
+            shape = (len(placed.members), last - first, placed.actuators.shape[1])
+            if result.shape != shape:  # a skeleton of held sensors alone: one value per tick
+                result = np.broadcast_to(result, shape)
             if self.scale != 1.0:
                 result = result * self.scale
             finite = np.isfinite(result)
