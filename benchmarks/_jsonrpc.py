@@ -29,6 +29,11 @@ class RawClient:
         self._handlers: dict[str, Callable[[float, Any], None]] = {}
         self._reader: asyncio.Task[None] | None = None
 
+    @property
+    def pid(self) -> int:
+        assert self._process is not None
+        return self._process.pid
+
     def on(self, method: str, handler: Callable[[float, Any], None]) -> None:
         self._handlers[method] = handler
 

@@ -8,12 +8,21 @@ Then the command as a user runs it (issue 28): ``gaitgram check grammars/sine-wa
 process (target: under 150 ms), beside a bare interpreter's start; and ``check --format json`` on
 10,000 rules against the text format, in-process with the output written to /dev/null (target:
 JSON within 1.2x of text).
+
+Last, how the cost grows with the size (issue 39): each shape of large grammar (:data:`SHAPES`:
+one huge line, many rules, one rule of many alternatives, a long quoted terminal, deep nesting, a
+long comment, problems by the thousand on one line, ...) checked at a size and at 4 times it,
+the text report and JSON with every fix made too; the baseline is the same work at the first
+size, measured in the same run, and the target is under 5x (linear is 4x, quadratic 16x). CPU
+time of this process, which a loaded machine moves less than wall time. Then ``gaitgram check``
+as a process on the one-line grammar of the issue, 0.9 MB and 3.6 MB: time and peak memory.
 """
 
 from __future__ import annotations
 
 import compileall
 import contextlib
+import gc
 import os
 import random
 import re
@@ -23,10 +32,12 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 from benchmarks._timing import Timing, measure, row
 from gaitgram.analysis import check
+from gaitgram.analysis.report import CheckedFile, human, json_report
 from gaitgram.language import parse
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -72,6 +83,106 @@ def generated_grammar(rules: int, seed: int = 1) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _one_line(size: int) -> str:
+    """One rule, its alternatives all on one line, using 50 small rules."""
+    alternatives = " | ".join(f"<r{i % 50}> + {i}.5" for i in range(size // 14))
+    return f"<e> ::= {alternatives}\n" + "".join(f"<r{i}> ::= {i}\n" for i in range(50))
+
+
+def _alternative_lines(size: int) -> str:
+    return "<e> ::= a\n" + "".join(f"    | <e> + {i} * sin(t)\n" for i in range(size // 24))
+
+
+def _many_joint_rules(size: int) -> str:
+    count = size // 40
+    heads = " | ".join(f"<j{i}>" for i in range(count))
+    return f"<s> ::= {heads}\n" + "".join(f"@joint j{i}\n<j{i}> ::= x\n" for i in range(count))
+
+
+def _many_missing_names(size: int) -> str:
+    count = size // 40
+    return (
+        "".join(f"<r{i}> ::= <missing{i}> | <r{i + 1}> | x\n" for i in range(count)) + f"<r{count}> ::= x\n"
+    )
+
+
+#: Large grammars of every shape, by their size in characters (about).
+SHAPES: dict[str, Callable[[int], str]] = {
+    "one huge line": _one_line,
+    "many rules": lambda size: generated_grammar(size // 37),
+    "one rule, an alternative a line": _alternative_lines,
+    "a long quoted terminal": lambda size: "<e> ::= '" + "a" * size + "' | b\n",
+    "a long unquoted terminal": lambda size: "<e> ::= " + "ab cd " * (size // 6) + "\n",
+    "deep nesting": lambda size: "<e> ::= " + "(" * (size // 2) + "x" + ")" * (size // 2) + "\n",
+    "a long comment": lambda size: "# " + "c" * size + "\n<e> ::= x\n",
+    "problems on one line": lambda size: "<e> ::= x" + " |" * (size // 2) + "\n",
+    "rules on one line": lambda size: "".join(f"<r{i}> ::= <r{i + 1}> " for i in range(size // 18)) + "\n",
+    "emoji on one line": lambda size: "<e> ::= " + " | ".join(["\U0001f40e <u>"] * (size // 10)) + "\n",
+    "many joint rules": _many_joint_rules,
+    "many missing names": _many_missing_names,
+    "stray text": lambda size: "junk text here\n" * (size // 15) + "<e> ::= x\n",
+}
+
+
+def check_and_report(text: str) -> None:
+    """``gaitgram check`` as a library, both reports made: the text one, and JSON with every fix."""
+    result = check(parse(text))
+    source = result.grammar.source
+    for found in result.diagnostics:
+        human(found, source).plain  # noqa: B018  (the text as printed)
+    json_report([CheckedFile("g.gg", source, result.diagnostics)])
+
+
+def cpu_seconds(work: Callable[[], object]) -> float:
+    """CPU time of ``work`` in this process, the collector paused (as the console script runs)."""
+    gc.collect()
+    gc.disable()
+    try:
+        start = time.process_time()
+        work()
+        return time.process_time() - start
+    finally:
+        gc.enable()
+
+
+def scaling(size: int = 250_000, times: int = 4) -> None:
+    print(
+        f"check + text report + JSON report, CPU time at ~{size / 1e3:.0f} KB and {times}x: target under 5x"
+    )
+    check_and_report(SHAPES["many rules"](20_000))  # loaded and compiled first
+    worst = 0.0
+    for label, make in SHAPES.items():
+        small, large = make(size), make(times * size)
+        base, grown = (
+            cpu_seconds(lambda text=small: check_and_report(text)),
+            cpu_seconds(lambda text=large: check_and_report(text)),
+        )
+        ratio = grown / max(base, 1e-4)
+        worst = max(worst, ratio)
+        print(
+            f"  {label:<34} {len(small) / 1e3:7.0f} KB {base * 1e3:8.1f} ms   {len(large) / 1e3:7.0f} KB"
+            f" {grown * 1e3:8.1f} ms   ratio {ratio:5.2f}x (size {len(large) / len(small):.2f}x)"
+        )
+    print(f"  worst ratio {worst:.2f}x (target under 5x)")
+
+
+def one_line_processes() -> None:
+    """The issue's grammar: one line of 0.9 MB, then 3.6 MB, checked by the command."""
+    with tempfile.TemporaryDirectory() as here:
+        figures = []
+        for size in (900_000, 3_600_000):
+            path = Path(here) / f"line-{size}.gg"
+            path.write_text(_one_line(size), encoding="utf-8")
+            wall, cpu = process_time([*_gaitgram(), "check", str(path)], runs=1)
+            peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024  # the largest so far
+            figures.append((path.stat().st_size, wall.median, cpu.median, peak))
+    print("gaitgram check on one line, as a process: wall, CPU, peak memory (the largest child so far)")
+    for size, wall, cpu, peak in figures:
+        print(f"  {size / 1e6:4.1f} MB   wall {wall:6.2f} s   cpu {cpu:6.2f} s   peak {peak:6.0f} MiB")
+    (small, _, base, _), (large, _, grown, _) = figures
+    print(f"  CPU ratio {grown / base:.2f}x for {large / small:.1f}x the size (target under 5x)")
+
+
 def main() -> None:
     inputs = {
         "Dow.bnf (PonyGE2, 2 rules)": (ROOT / "tests/data/ponyge2/Dow.bnf").read_text(),
@@ -88,6 +199,10 @@ def main() -> None:
     processes()
     print()
     json_against_text(generated_grammar(10_000))
+    print()
+    scaling()
+    print()
+    one_line_processes()
 
 
 def _gaitgram() -> list[str]:

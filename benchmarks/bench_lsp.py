@@ -22,19 +22,27 @@ the changes are applied on the event loop, so each must cost far less than a sca
 Two documents: bench_check's generator (acyclic; most rules unreachable from the start rule,
 so ~4,800 warnings to convert and send with every change), and a variant where every rule
 is reachable (a handful of diagnostics), closer to a real grammar.
+
+Then large documents (issue 39): each opened at a size and at 4 times it, the time to its
+diagnostics and the server's CPU time for it (target: under 5x for 4x the size), against the
+baseline of ``check(parse(text))`` in-process at both sizes in the same run; and, while the
+larger is analysed, hovers on a small document opened after it (target: answered within 50 ms,
+not after the large one's analysis).
 """
 
 from __future__ import annotations
 
 import asyncio
+import os
 import random
 import statistics
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 from benchmarks._jsonrpc import RawClient, server_command
 from benchmarks._timing import measure
-from benchmarks.bench_check import generated_grammar
+from benchmarks.bench_check import SHAPES, generated_grammar
 from gaitgram.analysis import check
 from gaitgram.language import parse
 from gaitgram.language.incremental import IncrementalParser
@@ -203,6 +211,108 @@ async def completion_behind_a_burst(text: str, changes: int) -> tuple[float, flo
     return behind, alone
 
 
+def _server_cpu(client: RawClient) -> float:
+    """CPU seconds the server process has used (Linux's /proc; NaN elsewhere)."""
+    try:
+        fields = Path(f"/proc/{client.pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return float("nan")
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+async def open_large(text: str, *, beside: bool) -> tuple[float, float, list[float]]:
+    """(seconds to the document's diagnostics, server CPU seconds for it, ms of each hover on a
+    small document opened after it, answered while it is analysed, when ``beside``: measured in
+    a run of their own, since the hovers cost the server CPU time too)."""
+    published: set[tuple[str, int]] = set()
+    client = RawClient()
+    client.on(
+        "textDocument/publishDiagnostics",
+        lambda _, params: published.add((params["uri"], params.get("version"))),
+    )
+    await client.start(*server_command())
+    await client.request("initialize", {"processId": None, "rootUri": None, "capabilities": {}})
+    client.notify("initialized", {})
+    await asyncio.sleep(0.5)  # the server's imports done, so its CPU time is the document's
+    cpu, start = _server_cpu(client), time.perf_counter()
+    client.notify(
+        "textDocument/didOpen",
+        {"textDocument": {"uri": URI, "languageId": "gaitgram", "version": 1, "text": text}},
+    )
+    hovers: list[float] = []
+    if beside:
+        small = "file:///bench/small.gg"
+        client.notify(
+            "textDocument/didOpen",
+            {
+                "textDocument": {
+                    "uri": small,
+                    "languageId": "gaitgram",
+                    "version": 1,
+                    "text": "<a> ::= <b>\n<b> ::= x\n",
+                }
+            },
+        )
+        position = {"textDocument": {"uri": small}, "position": {"line": 0, "character": 1}}
+        while (URI, 1) not in published:
+            asked = time.perf_counter()
+            await client.request("textDocument/hover", position)
+            hovers.append((time.perf_counter() - asked) * 1e3)
+            await asyncio.sleep(0.02)
+    while (URI, 1) not in published:
+        await asyncio.sleep(0.005)
+    elapsed, used = time.perf_counter() - start, _server_cpu(client) - cpu
+    await client.stop()
+    return elapsed, used, hovers
+
+
+def cpu_of(work: Callable[[], object]) -> float:
+    start = time.process_time()
+    work()
+    return time.process_time() - start
+
+
+def large_documents() -> None:
+    print("large documents opened, at a size and at 4x it (target: under 5x the size's cost)")
+    worst = 0.0
+    for label, make, size in (
+        ("bench_check's generated grammar", generated_grammar, 25_000),
+        ("one huge line", lambda rules: SHAPES["one huge line"](rules * 36), 25_000),
+    ):
+        small, large = make(size), make(4 * size)
+        base_small = cpu_of(lambda text=small: check(parse(text)))
+        base_large = cpu_of(lambda text=large: check(parse(text)))
+        (wall_small, cpu_small, _), (wall_large, cpu_large, _), (_, _, hovers) = (
+            asyncio.run(open_large(small, beside=False)),
+            asyncio.run(open_large(large, beside=False)),
+            asyncio.run(open_large(large, beside=True)),
+        )
+        ratio = cpu_large / cpu_small
+        worst = max(worst, ratio)
+        print(f"  {label}: {len(small) / 1e6:.2f} MB and {len(large) / 1e6:.2f} MB")
+        print(
+            f"    baseline check(parse(text)) in-process, CPU   {base_small:6.2f} s  {base_large:6.2f} s"
+            f"   ratio {base_large / base_small:5.2f}x"
+        )
+        print(
+            f"    opened: diagnostics after (wall)             {wall_small:6.2f} s  {wall_large:6.2f} s"
+            f"   ratio {wall_large / wall_small:5.2f}x"
+        )
+        print(
+            f"    opened: server CPU                           {cpu_small:6.2f} s  {cpu_large:6.2f} s"
+            f"   ratio {ratio:5.2f}x (target under 5x)"
+        )
+        if len(hovers) > 1:  # the first waits for the large message itself to be read and decoded
+            later = hovers[1:]
+            print(
+                f"    hover on a small document meanwhile: {len(later)} answered, p50"
+                f" {statistics.median(later):5.1f} ms, p95 {percentile(later, 0.95):5.1f} ms,"
+                f" max {max(later):6.1f} ms (target under 50 ms; the first, queued behind the"
+                f" {len(large) / 1e6:.1f} MB message, {hovers[0]:.0f} ms)"
+            )
+    print(f"  worst CPU ratio {worst:.2f}x (target under 5x)")
+
+
 def main() -> None:
     report(f"bench_check's generated grammar, {RULES:,} rules", generated_grammar(RULES))
     report(f"every rule reachable, {RULES:,} rules", reachable_grammar(RULES))
@@ -214,3 +324,5 @@ def main() -> None:
         f"  completion behind them {behind:6.1f} ms   (target < 50 ms; one completion alone {alone:.1f} ms,"
         f" ratio {behind / alone:.1f}x)"
     )
+    print()
+    large_documents()

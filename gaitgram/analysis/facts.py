@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import heapq
 from collections import deque
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from typing import TypeVar
@@ -45,7 +45,7 @@ class GrammarFacts:
     min_depth: tuple[int | None, ...]
     choice_min_depth: tuple[tuple[int | None, ...], ...]
     #: For each @joint rule, the rules its curve can use (itself included).
-    joint_reach: dict[str, frozenset[str]]
+    joint_reach: Mapping[str, frozenset[str]]
 
     @cached_property
     def recursive(self) -> tuple[bool, ...]:
@@ -78,22 +78,42 @@ def analyse(grammar: Grammar, cfg: Cfg | None = None) -> GrammarFacts:
     depth, choice_depth = min_depths(cfg)
     productive = tuple(d is not None for d in depth)
     reachable = reachable_from(cfg, [] if cfg.start is None else [cfg.start])
-    joint_reach = {}
-    for joint in grammar.joints:
-        root = cfg.index.get(joint.rule)
-        if root is not None:
-            seen = reachable_from(cfg, [root])
-            joint_reach[joint.rule] = frozenset(
-                cfg.names[i] for i, hit in enumerate(seen) if hit and cfg.kinds[i] is RuleKind.DEFINED
-            )
     return GrammarFacts(
         cfg=cfg,
         productive=productive,
         reachable=reachable,
         min_depth=depth,
         choice_min_depth=choice_depth,
-        joint_reach=joint_reach,
+        joint_reach=JointReach(cfg, [joint.rule for joint in grammar.joints]),
     )
+
+
+class JointReach(Mapping[str, frozenset[str]]):
+    """For each ``@joint`` rule, the rules its curve can use, each found when first read.
+
+    One search of the grammar per joint rule: worked out eagerly, a grammar of thousands of
+    joint rules cost their number times its size on every check, which reads none of them."""
+
+    def __init__(self, cfg: Cfg, rules: Iterable[str]) -> None:
+        self._cfg = cfg
+        self._roots = {rule: root for rule in rules if (root := cfg.index.get(rule)) is not None}
+        self._found: dict[str, frozenset[str]] = {}
+
+    def __getitem__(self, rule: str) -> frozenset[str]:
+        found = self._found.get(rule)
+        if found is None:
+            cfg = self._cfg
+            seen = reachable_from(cfg, [self._roots[rule]])
+            found = self._found[rule] = frozenset(
+                cfg.names[i] for i, hit in enumerate(seen) if hit and cfg.kinds[i] is RuleKind.DEFINED
+            )
+        return found
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._roots)
+
+    def __len__(self) -> int:
+        return len(self._roots)
 
 
 def min_depths(
@@ -136,6 +156,7 @@ def _least_values(
     choice_value: list[Value | None] = []
     for r, choices in enumerate(rules):
         first_choice.append(len(owner))
+        seeded = False  # its choices without rules are all worth extra[r]: one heap entry for them
         for choice in choices:
             waits = 0
             for item in choice:
@@ -145,8 +166,9 @@ def _least_values(
             owner.append(r)
             remaining.append(waits)
             choice_value.append(None if waits else extra[r])
-            if not waits:
+            if not waits and not seeded:
                 heap.append((extra[r], r))
+                seeded = True
     first_choice.append(len(owner))
     value: list[Value | None] = [None] * n
     total: list[Value] = [0] * len(owner)
@@ -236,7 +258,17 @@ def recursive_rules(cfg: Cfg) -> tuple[bool, ...]:
     return tuple(result)
 
 
-def derived_exactly_once(cfg: Cfg, productive: tuple[bool, ...]) -> frozenset[int]:
+def _usable(cfg: Cfg, productive: tuple[bool, ...]) -> list[list[tuple[Item, ...]]]:
+    """Each rule's choices that can finish: every rule they use is productive."""
+    return [
+        [choice for choice in choices if all(productive[i] for i in choice if isinstance(i, int))]
+        for choices in cfg.choices
+    ]
+
+
+def derived_exactly_once(
+    cfg: Cfg, productive: tuple[bool, ...], usable: list[list[tuple[Item, ...]]] | None = None
+) -> frozenset[int]:
     """Rules that every finishing derivation uses exactly once, found without a search: the start
     rule when nothing uses it, and a rule used at one place only, in the one usable choice of a
     rule that is itself derived exactly once. A cheap test before :func:`occurrence_bounds` (one
@@ -245,10 +277,8 @@ def derived_exactly_once(cfg: Cfg, productive: tuple[bool, ...]) -> frozenset[in
     start = cfg.start
     if start is None or not productive[start]:
         return frozenset()
-    usable = [
-        [choice for choice in choices if all(productive[i] for i in choice if isinstance(i, int))]
-        for choices in cfg.choices
-    ]
+    if usable is None:
+        usable = _usable(cfg, productive)
     uses: list[list[int]] = [[] for _ in range(len(cfg))]  # each place a rule is used: its user
     for r, choices in enumerate(usable):
         for choice in choices:
@@ -276,60 +306,104 @@ def occurrence_bounds(cfg: Cfg, target: int, productive: tuple[bool, ...]) -> tu
     Only finishing derivations count, so only choices whose rules are all
     productive are followed. ``most`` is infinite when a cycle can repeat it.
     """
-    start = cfg.start
-    if start is None or not productive[start]:
-        return 0, 0
-    usable = [
-        [choice for choice in choices if all(productive[i] for i in choice if isinstance(i, int))]
-        for choices in cfg.choices
-    ]
-    # Fewest: as min_depths, with sums instead of maxima.
-    n = len(cfg)
-    extra = [1.0 if r == target else 0.0 for r in range(n)]
-    fewest, _ = _least_values(usable, extra, (), summing=True)
+    return Occurrences(cfg, productive).bounds(target)
 
-    # Most: infinite through any usable cycle that can still reach the target,
-    # otherwise a longest-path sum over the acyclic rest (memoised depth-first).
-    reaches_target = [False] * n
-    reverse: list[list[int]] = [[] for _ in range(n)]
-    for r in range(n):
-        for choice in usable[r]:
-            for i in choice:
-                if isinstance(i, int):
-                    reverse[i].append(r)
-    queue = deque([target])
-    reaches_target[target] = True
-    while queue:
-        r = queue.popleft()
-        for p in reverse[r]:
-            if not reaches_target[p]:
-                reaches_target[p] = True
-                queue.append(p)
-    most: dict[int, float] = {}
-    state = [0] * n  # 0 new, 1 on the path, 2 done
-    work: list[tuple[int, bool]] = [(start, False)]
-    while work:
-        r, done = work.pop()
-        if done:
-            best = 0.0
-            for choice in usable[r]:
-                total = sum(most[i] for i in choice if isinstance(i, int) and reaches_target[i])
-                best = max(best, total)
-            most[r] = best + (1.0 if r == target else 0.0)
-            state[r] = 2
-            continue
-        if state[r] == 2 or not reaches_target[r]:
-            most.setdefault(r, 0.0)
-            continue
-        if state[r] == 1:
-            return fewest[start] or 0.0, INFINITE
-        state[r] = 1
-        work.append((r, True))
-        for choice in usable[r]:
-            for i in choice:
-                if isinstance(i, int) and reaches_target[i]:
-                    if state[i] == 1:
-                        return fewest[start] or 0.0, INFINITE
-                    if state[i] == 0:
+
+class Occurrences:
+    """:func:`occurrence_bounds` for many targets of one grammar (the linter asks for each joint
+    rule): the usable choices and where each rule occurs in them are found once, and each
+    target's bounds are worked out over the rules that can reach it only. A choice that uses none
+    of them derives the target no time, so only the places those rules occur are read, not the
+    whole grammar per target (thousands of joint rules cost their number times its size)."""
+
+    def __init__(self, cfg: Cfg, productive: tuple[bool, ...]) -> None:
+        self.cfg = cfg
+        self.productive = productive
+        self.usable = _usable(cfg, productive)
+        #: For each rule, each place it occurs in a usable choice: (the user, the choice's index).
+        self.places: list[list[tuple[int, int]]] = [[] for _ in range(len(cfg))]
+        for r, choices in enumerate(self.usable):
+            for c, choice in enumerate(choices):
+                for i in choice:
+                    if isinstance(i, int):
+                        self.places[i].append((r, c))
+
+    def bounds(self, target: int) -> tuple[float, float]:
+        start = self.cfg.start
+        if start is None or not self.productive[start]:
+            return 0, 0
+        # The rules that can reach the target (itself included), and for each of their choices
+        # that uses some of them, which (once per occurrence).
+        places = self.places
+        reaching = {target}
+        queue = deque([target])
+        marked: dict[int, dict[int, list[int]]] = {}
+        while queue:
+            r = queue.popleft()
+            for user, c in places[r]:
+                marked.setdefault(user, {}).setdefault(c, []).append(r)
+                if user not in reaching:
+                    reaching.add(user)
+                    queue.append(user)
+        if start not in reaching:
+            return 0.0, 0.0
+        return self._fewest(target, reaching, marked), self._most(target, start, marked)
+
+    def _fewest(self, target: int, reaching: set[int], marked: dict[int, dict[int, list[int]]]) -> float:
+        """As ``min_depths``, with sums instead of maxima, over the rules that reach the target:
+        a choice using none of them is worth nothing but the target itself."""
+        usable = self.usable
+        waiting: dict[int, list[tuple[int, int]]] = {}  # a rule: the (user, choice) that wait for it
+        remaining: dict[tuple[int, int], int] = {}
+        total: dict[tuple[int, int], float] = {}
+        heap: list[tuple[float, int]] = []
+        for r in reaching:
+            own = 1.0 if r == target else 0.0
+            choices = marked.get(r, {})
+            if len(choices) < len(usable[r]):  # a choice that uses no rule reaching the target
+                heap.append((own, r))
+            for c, items in choices.items():
+                remaining[r, c] = len(items)
+                total[r, c] = own
+                for i in items:
+                    waiting.setdefault(i, []).append((r, c))
+        heapq.heapify(heap)
+        value: dict[int, float] = {}
+        while heap:
+            v, r = heapq.heappop(heap)
+            if r in value:
+                continue
+            value[r] = v
+            for key in waiting.get(r, ()):
+                remaining[key] -= 1
+                total[key] += v
+                if remaining[key] == 0 and key[0] not in value:
+                    heapq.heappush(heap, (total[key], key[0]))
+        return value.get(self.cfg.start, 0.0)  # type: ignore[arg-type]  # start is set
+
+    def _most(self, target: int, start: int, marked: dict[int, dict[int, list[int]]]) -> float:
+        """Infinite through any cycle of rules that reach the target (each can repeat it), else
+        the longest-path sum over them (memoised depth-first)."""
+        most: dict[int, float] = {}
+        state: dict[int, int] = {}  # absent new, 1 on the path, 2 done
+        work: list[tuple[int, bool]] = [(start, False)]
+        while work:
+            r, done = work.pop()
+            choices = marked.get(r, {})
+            if done:
+                best = max((sum(most[i] for i in items) for items in choices.values()), default=0.0)
+                most[r] = best + (1.0 if r == target else 0.0)
+                state[r] = 2
+                continue
+            if state.get(r) == 2:
+                continue
+            state[r] = 1
+            work.append((r, True))
+            for items in choices.values():
+                for i in items:
+                    seen = state.get(i)
+                    if seen == 1:
+                        return INFINITE
+                    if seen is None:
                         work.append((i, False))
-    return fewest[start] or 0.0, most.get(start, 0.0)
+        return most.get(start, 0.0)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 from gaitgram.analysis.cfg import RuleKind
-from gaitgram.analysis.facts import GrammarFacts, reachable_from
+from gaitgram.analysis.facts import GrammarFacts
 from gaitgram.backends.catalogue import JointCatalogue
 from gaitgram.backends.registry import BackendLoadError, BackendNotFound, backend_names, get_backend
 from gaitgram.backends.sensors import Sensor, SensorCatalogue
@@ -62,14 +62,23 @@ def motion_rules(grammar: Grammar, facts: GrammarFacts) -> dict[str, tuple[str, 
     roots = [(j.joint, j.rule) for j in grammar.joints]
     if grammar.frequency is not None:
         roots.append((FREQUENCY, grammar.frequency.rule))
-    readers: dict[int, list[str]] = {}
+    readers: dict[int, dict[str, None]] = {}  # each rule's readers, in order, once each
+    successors: list[set[int]] | None = None
     for reader, rule in roots:
         index = cfg.index.get(rule)
         if index is None or cfg.kinds[index] is not RuleKind.DEFINED or not facts.reachable[index]:
             continue
-        for reached, yes in enumerate(reachable_from(cfg, [index])):
-            if yes and cfg.kinds[reached] is RuleKind.DEFINED and reader not in readers.get(reached, ()):
-                readers.setdefault(reached, []).append(reader)
+        if successors is None:  # each root's search reads what it reaches, never the whole grammar
+            successors = [cfg.children(r) for r in range(len(cfg))]  # (thousands of joint rules)
+        reached, frontier = {index}, [index]
+        while frontier:
+            for child in successors[frontier.pop()]:
+                if child not in reached:
+                    reached.add(child)
+                    frontier.append(child)
+        for found in reached:
+            if cfg.kinds[found] is RuleKind.DEFINED:
+                readers.setdefault(found, {})[reader] = None
     rules = grammar.rules_by_name
     ordered = sorted(readers, key=lambda i: rules[cfg.names[i]].span.start)
     return {cfg.names[i]: tuple(readers[i]) for i in ordered}

@@ -67,19 +67,14 @@ def human(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False) -
     """``file:line:col: error[GG201] message``, the source line with a caret, and the hint."""
     level = effective_severity(diagnostic, strict=strict)
     start = source.location(diagnostic.span.start)
-    end = source.location(diagnostic.span.end)
     out = Styled()
     out.append(f"{source.name}:{start.line}:{start.column}: ", style="bold")
     out.append(f"{level.value}[{diagnostic.code.code}]", style=_STYLES[level])
     out.append(f" {diagnostic.message}\n", style="bold")
 
-    line_text = source.line_text(start.line)
+    shown, prefix, marked = _source_window(source, diagnostic.span.start, diagnostic.span.end)
     gutter = str(start.line)
     pad = " " * len(gutter)
-    shown = line_text.expandtabs(4)
-    prefix = line_text[: start.column - 1].expandtabs(4)
-    last_column = end.column if end.line == start.line else len(line_text) + 1
-    marked = line_text[start.column - 1 : last_column - 1].expandtabs(4)
     out.append(f"{pad} |\n", style="blue")
     out.append(f"{gutter} | ", style="blue")
     out.append(shown + "\n")
@@ -91,6 +86,32 @@ def human(diagnostic: Diagnostic, source: SourceText, *, strict: bool = False) -
         out.append("hint: ", style="bold")
         out.append(diagnostic.hint + "\n")
     return out
+
+
+#: A source line longer than this (in characters) is shown only around the problem, from
+#: ``_BEFORE`` characters before it to ``SHOWN_LINE`` in all: a line of megabytes with
+#: thousands of problems on it would otherwise be printed whole for each of them.
+SHOWN_LINE = 160
+_BEFORE = 40
+
+
+def _source_window(source: SourceText, start: int, end: int) -> tuple[str, str, str]:
+    """The line of ``start`` as shown (tabs expanded, a long line cut to a window with ``…`` where
+    it goes on), the part of it before the problem and the part marked: from ``start`` to ``end``,
+    or to the line's end."""
+    text = source.text
+    first = source.line_start_of(start)
+    last = source.line_end_of(start)
+    left, right = first, last
+    if last - first > SHOWN_LINE:
+        left = max(first, min(start - _BEFORE, last - SHOWN_LINE))
+        right = min(last, left + SHOWN_LINE)
+    opened = "…" if left > first else ""
+    closed = "…" if right < last else ""
+    shown = opened + text[left:right].expandtabs(4) + closed
+    prefix = (opened + text[left:start]).expandtabs(4)
+    marked = text[start : max(start, min(end, right))].expandtabs(4)
+    return shown, prefix, marked
 
 
 def source_error(error: SourceError) -> Styled:

@@ -203,6 +203,13 @@ class Context:
 
 _ANNOTATION_LINE = re.compile(r"[^\S\n]*@([A-Za-z_][\w-]*)?(.*)", re.DOTALL)
 _NAME_CHARS = re.compile(r"[^<>|\s]*")
+_WORD, _NOT_BLANK, _NAME = re.compile(r"[\w-]*"), re.compile(r"\S*"), re.compile(r"\w*")
+
+
+def _ending(run: re.Pattern[str], text: str) -> str:
+    """The longest run of ``run``'s characters that ends ``text``, matched on it reversed:
+    ``re.search(run + "$")`` tries every start on the line, quadratic in a long word."""
+    return run.match(text[::-1]).group()[::-1]  # type: ignore[union-attr]  # the empty run matches
 
 
 def context(before: str, after: str) -> Context:
@@ -232,7 +239,7 @@ def context(before: str, after: str) -> Context:
         tail = _NAME_CHARS.match(after).group()  # type: ignore[union-attr]
         end = len(before) + len(tail) + (1 if after[len(tail) :].startswith(">") else 0)
         return Context(Where.RULE, reference.group(1), reference.start(), end, bracket=True)
-    word = re.search(r"[\w-]*$", before).group()  # type: ignore[union-attr]
+    word = _ending(_WORD, before)
     tail = re.match(r"[\w-]*", after).group()  # type: ignore[union-attr]
     return Context(Where.RULE, word, len(before) - len(word), len(before) + len(tail))
 
@@ -240,7 +247,7 @@ def context(before: str, after: str) -> Context:
 def _argument_context(kind: AnnotationKind | None, before: str, rest: str, after: str) -> Context:
     if kind is None:
         return Context(Where.NOTHING)
-    current = re.search(r"\S*$", rest).group()  # type: ignore[union-attr]
+    current = _ending(_NOT_BLANK, rest)
     words = tuple(rest[: len(rest) - len(current)].split())
     tail = re.match(r"[^\s#]*", after).group()  # type: ignore[union-attr]
     end = len(before) + len(tail)
@@ -319,7 +326,7 @@ def complete(
     incomplete = False
     sensors = _sensors_here(model, line) if found.where is Where.RULE and not found.bracket else ()
     if sensors:  # a curve's text: the word is a name of motion text (``0.2*pi`` types ``pi``)
-        typed = re.search(r"\w*$", line_text[:column]).group()  # type: ignore[union-attr]
+        typed = _ending(_NAME, line_text[:column])
         tail = re.match(r"\w*", line_text[column:]).group()  # type: ignore[union-attr]
         found = replace(found, typed=typed, start=column - len(typed), end=column + len(tail))
     if (trigger == " " and found.where not in (Where.ARGUMENT, Where.KEYWORD)) or (

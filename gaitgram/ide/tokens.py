@@ -88,7 +88,7 @@ def tokens(grammar: Grammar, sensors: Sequence[Span] = ()) -> list[Token]:
         following = items[index + 1][0] if index + 1 < len(items) else len(text)
         name = item.name_span
         if not is_annotation:
-            scan(position, _line_start(text, start), comments_only=True)
+            scan(position, grammar.source.line_start_of(start), comments_only=True)
             found.append(Token(name.start, name.end - name.start, TokenType.RULE, declaration=True))
             define = text.find("::=", name.end)
             if define != -1:
@@ -96,7 +96,7 @@ def tokens(grammar: Grammar, sensors: Sequence[Span] = ()) -> list[Token]:
                 scan(define + 3, following, comments_only=False)
             position = max(following, define + 3)
         else:
-            scan(position, _line_start(text, start), comments_only=True)
+            scan(position, grammar.source.line_start_of(start), comments_only=True)
             found.append(Token(name.start, name.end - name.start, TokenType.ANNOTATION))
             for argument in item.arguments:
                 found += _argument_tokens(argument)
@@ -130,10 +130,6 @@ def _carve(found: list[Token], sensors: Sequence[Span]) -> list[Token]:
         if end > start:
             carved.append(Token(start, end - start, TokenType.STRING))
     return carved
-
-
-def _line_start(text: str, offset: int) -> int:
-    return text.rfind("\n", 0, offset) + 1
 
 
 def _argument_tokens(argument: Argument) -> list[Token]:

@@ -18,6 +18,7 @@ from __future__ import annotations
 import unicodedata
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import NamedTuple
 
 from lark import Token, Tree
@@ -65,9 +66,11 @@ from gaitgram.language.problems import (
 )
 from gaitgram.language.ranges import (
     MALFORMED_RANGE,
+    MAX_GRAMMAR_RANGE_VALUES,
     MAX_RANGE_VALUES,
+    OpenRanges,
     RangeFix,
-    no_open_range_before,
+    over_budget_problem,
     parse_range,
 )
 from gaitgram.language.source import SourceText, Span
@@ -89,6 +92,10 @@ class Parts(NamedTuple):
     problems: tuple[Diagnostic, ...]
     #: Its own ``@define`` values.
     defines: dict[str, int]
+    #: The values of its typed ranges, counted where each is written (see
+    #: ``ranges.MAX_GRAMMAR_RANGE_VALUES``), and whether one was refused for that limit.
+    range_values: int = 0
+    over_budget: bool = False
 
     def moved(self, delta: int) -> Parts:
         """The same parts ``delta`` characters further on (the incremental parser's segment
@@ -107,12 +114,22 @@ class Parts(NamedTuple):
             tuple([joint.moved(delta) for joint in self.joints]),
             tuple([problem.moved(delta) for problem in self.problems]),
             self.defines,
+            self.range_values,
+            self.over_budget,
         )
 
 
-def read_parts(tree: Tree, source: SourceText, defines: Mapping[str, int] | None = None) -> Parts:
-    """Read a parse tree; ``defines`` are the values ``GE_RANGE:name`` may take from outside it."""
-    return _Builder(source, dict(defines or {})).build(tree)
+def read_parts(
+    tree: Tree,
+    source: SourceText,
+    defines: Mapping[str, int] | None = None,
+    window: tuple[int, int] | None = None,
+) -> Parts:
+    """Read a parse tree; ``defines`` are the values ``GE_RANGE:name`` may take from outside it.
+    With ``window`` (start, end), the tree is of that part of ``source`` only (``parse_tree``'s
+    ``start`` and ``end``), which reads the same alone as in place when it starts and ends where
+    items do (``incremental.segment_starts``)."""
+    return _Builder(source, dict(defines or {}), window or (0, len(source.text))).build(tree)
 
 
 def build_grammar(tree: Tree, source: SourceText, defines: Mapping[str, int] | None = None) -> Grammar:
@@ -148,13 +165,21 @@ def assemble_grammar(source: SourceText, parts: Sequence[Parts], defines: dict[s
 class _Builder:
     source: SourceText
     external_defines: dict[str, int]
+    window: tuple[int, int]
     problems: list[Diagnostic] = field(default_factory=list)
     defines: dict[str, int] = field(default_factory=dict)
+    #: Values of the typed ranges read so far, and whether one was refused for the grammar's limit.
+    range_values: int = 0
+    over_budget: bool = False
+
+    @cached_property
+    def open_ranges(self) -> OpenRanges:
+        return OpenRanges(self.source)
 
     # ---- document ------------------------------------------------------------
 
     def build(self, tree: Tree) -> Parts:
-        self.problems.extend(unencodable_text(self.source))
+        self.problems.extend(unencodable_text(self.source, *self.window))
         items = tree.children
         annotations = [
             self._annotation(item) for item in items if isinstance(item, Tree) and item.data == "annotation"
@@ -185,8 +210,16 @@ class _Builder:
                     pending.append(c)
         for c in pending:
             if c.kind is not None:
-                self.problems.append(dangling_annotation(self.source.text, c.annotation))
-        return Parts(tuple(rules), tuple(annotations), tuple(joints), tuple(self.problems), own_defines)
+                self.problems.append(dangling_annotation(self.source, c.annotation))
+        return Parts(
+            tuple(rules),
+            tuple(annotations),
+            tuple(joints),
+            tuple(self.problems),
+            own_defines,
+            self.range_values,
+            self.over_budget,
+        )
 
     def _pieces(self, token: Token) -> list[Piece]:
         return scanner().pieces(self.source.text, token.start_pos, token.end_pos)
@@ -394,15 +427,22 @@ class _Builder:
         self.problems.extend(invalid_escape(self.source, start, error) for error in errors)
         return value
 
+    def _counted(self, spec: RangeSpec | None) -> RangeSpec | None:
+        if spec is not None:
+            self.range_values += spec.size
+        return spec
+
     def _range(self, rule: str, raw: str, start: int) -> RangeSpec | None:
-        spec, problems = parse_range(raw)
+        spec, problems = parse_range(raw, MAX_GRAMMAR_RANGE_VALUES - self.range_values)
+        self._counted(spec)
         for problem in problems:
+            self.over_budget |= problem.over_budget
             length = len(raw) - problem.offset if problem.length is None else problem.length
             span = Span(start + problem.offset, start + problem.offset + max(length, 1))
             if problem.offset == 0 and problem.length is None:
                 span = Span(start, start + len(raw))
             fix = problem.fix
-            if problem.code is MALFORMED_RANGE and not no_open_range_before(self.source.text, start):
+            if problem.code is MALFORMED_RANGE and not self.open_ranges.none_before(start):
                 fix = None  # it adds a ]
             self.problems.append(
                 problem.code(
@@ -419,9 +459,7 @@ class _Builder:
     def _look_alikes(self, rule: str, raw: str, start: int) -> None:
         for found in look_alike_ranges(raw):
             span = Span(start + found.offset, start + found.offset + found.length)
-            fix = (
-                found.fix if found.fix is None or no_open_range_before(self.source.text, span.start) else None
-            )
+            fix = found.fix if found.fix is None or self.open_ranges.none_before(span.start) else None
             self.problems.append(
                 RANGE_LOOK_ALIKE(
                     found.message,
@@ -453,7 +491,14 @@ class _Builder:
         if size < 1 or size > MAX_RANGE_VALUES:
             self.problems.append(ge_range_bad_size(raw, size, MAX_RANGE_VALUES, span, rule))
             return None
-        return RangeSpec(RangeKind.INT, raw, tuple(str(i) for i in range(size)))
+        if size > MAX_GRAMMAR_RANGE_VALUES - self.range_values:
+            problem = over_budget_problem(raw, size)
+            self.over_budget = True
+            self.problems.append(
+                problem.code(problem.message, span, rule=rule, hint=problem.hint, data={"range": raw})
+            )
+            return None
+        return self._counted(RangeSpec(RangeKind.INT, raw, tuple(str(i) for i in range(size))))
 
 
 # ---- helpers ---------------------------------------------------------------------------

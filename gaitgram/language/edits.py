@@ -14,11 +14,12 @@ import re
 from collections.abc import Iterable
 
 from gaitgram.diagnostics import Applicability, Fix, TextEdit
-from gaitgram.language.source import Span
+from gaitgram.language.source import SourceText, Span
 
 __all__ = [
     "EditConflict",
     "apply_edits",
+    "blank_end",
     "conflicts",
     "deletion_fix",
     "line_end",
@@ -75,22 +76,39 @@ def apply_edits(text: str, edits: Iterable[TextEdit]) -> str:
     return "".join(parts)
 
 
-def line_end(text: str, offset: int) -> int:
-    """The offset of the newline ending the line of ``offset`` (or the end of the text)."""
+def line_end(text: str | SourceText, offset: int) -> int:
+    """The offset of the newline ending the line of ``offset`` (or the end of the text); from a
+    :class:`SourceText`'s line index, without a scan of a long line."""
+    if isinstance(text, SourceText):
+        return text.line_end_of(offset)
     end = text.find("\n", offset)
     return len(text) if end == -1 else end
 
 
-def removal(text: str, start: int, end: int) -> Span:
+_BLANKS = re.compile(r"[^\S\n]*")
+
+
+def blank_end(text: str, offset: int) -> int:
+    """The offset past the blanks (whitespace but line breaks) at ``offset``."""
+    return _BLANKS.match(text, offset).end()  # type: ignore[union-attr]  # the empty run matches
+
+
+def removal(text: str | SourceText, start: int, end: int) -> Span:
     """The span to delete to remove ``text[start:end]`` cleanly: its whole lines if nothing else
-    is on them (a comment after it goes too), else it and the spaces after it."""
-    line_start = text.rfind("\n", 0, start) + 1
-    own_line = not text[line_start:start].strip()
-    stop = line_end(text, end)
-    rest = text[end:stop]
-    if own_line and (not rest.strip() or rest.lstrip().startswith("#")):
-        return Span(line_start, min(stop + 1, len(text)))
-    return Span(line_start if own_line else start, end + len(rest) - len(rest.lstrip()))
+    is on them (a comment after it goes too), else it and the spaces after it.
+
+    Reads only the blanks around the item (and a comment after it), never its whole line: an
+    item on a line of megabytes with thousands of others costs what a short line costs."""
+    raw = text.text if isinstance(text, SourceText) else text
+    before = start
+    while before > 0 and raw[before - 1] != "\n" and raw[before - 1].isspace():
+        before -= 1
+    own_line = before == 0 or raw[before - 1] == "\n"
+    after = blank_end(raw, end)
+    if own_line and (after == len(raw) or raw[after] in "\n#"):
+        stop = line_end(text, after)
+        return Span(before, min(stop + 1, len(raw)))
+    return Span(before if own_line else start, after)
 
 
 def union(spans: Iterable[Span]) -> list[Span]:
@@ -104,7 +122,7 @@ def union(spans: Iterable[Span]) -> list[Span]:
     return merged
 
 
-def deletion_fix(text: str, span: Span, title: str) -> Fix:
+def deletion_fix(text: str | SourceText, span: Span, title: str) -> Fix:
     """Delete an item (an annotation, a rule) with its lines, if nothing else is on them."""
     return Fix(title, (TextEdit(removal(text, span.start, span.end), ""),), Applicability.UNSAFE, True)
 

@@ -224,55 +224,63 @@ def _merge_breaks(elements: list[_Element]) -> list[_Element]:
 
 
 def _render(elements: list[_Element]) -> str:
+    """The lines, each written as a list of its pieces: a rule of 100,000 alternatives on one line
+    is one line, and extending it piece by piece as a string would copy it at every piece."""
     lines: list[str] = []
-    line = ""  # the line being written
+    line: list[str] = []  # the pieces of the line being written
+    filled = False  # whether it has more than spaces
     blank_pending = False
     pipe_indent = content_indent = 0  # of the current rule
 
     def start_line(indent: int) -> None:
-        nonlocal line, blank_pending
-        if line:
-            lines.append(line)
+        nonlocal line, filled, blank_pending
+        if any(line):
+            lines.append("".join(line))
         if blank_pending and lines:
             lines.append("")
         blank_pending = False
-        line = " " * indent
+        line, filled = [" " * indent], False
+
+    def add(*pieces: str) -> None:
+        nonlocal filled
+        line.extend(pieces)
+        filled = filled or any(piece.strip() for piece in pieces)
 
     for element in elements:
         match element:
             case _Head(text):
                 start_line(0)
-                line += text
+                add(text)
                 pipe_indent, content_indent = len(text) - 1, len(text) + 1
             case _Line(text):
                 start_line(0)
-                line += text
+                add(text)
                 pipe_indent = content_indent = 0
             case _Break(newlines):
-                if line.strip():
-                    lines.append(line)
-                    line = ""
+                if filled:
+                    lines.append("".join(line))
+                    line, filled = [], False
                 blank_pending = blank_pending or newlines >= 2
             case _Pipe():
-                if line.strip():
-                    line += " |"
+                if filled:
+                    add(" |")
                 else:
                     start_line(pipe_indent)
-                    line += "|"
+                    add("|")
             case _Content(text):
-                if line.strip():
-                    line += " " + text
+                if filled:
+                    add(" ", text)
                 else:
                     start_line(content_indent)
-                    line += text
+                    add(text)
             case _Comment(text, top_level):
-                if line.strip():
-                    line += "  " + text
+                if filled:
+                    add("  ", text)
                 else:
                     start_line(0 if top_level else content_indent)
-                    line += text
+                    add(text)
                     if top_level:
                         pipe_indent = content_indent = 0
-    if line.strip():
-        lines.append(line)
+    if filled:
+        lines.append("".join(line))
     return "".join(ln.rstrip(" \t") + "\n" for ln in lines)

@@ -15,7 +15,10 @@ then no annotation is pending there, and every annotation stays in the segment o
 rule it annotates.
 
 Each segment is read once and kept, keyed by its text; after an edit only new texts are
-read. A kept segment that moved is rebuilt at its new place by ``Parts.moved``, which is
+read, in place (the lexer reads a window of the document, so spans come out absolute), and
+many new segments together in windows of about :data:`WINDOW` characters: between two, the
+caller may stop a read whose text is already out of date (:class:`Stale`), and what was read
+is kept for the next. A kept segment that moved is rebuilt at its new place by ``Parts.moved``, which is
 cheap because a rule's pieces count from the rule's start (``Rule.span_of``): only the
 rules, annotations, joints and problems are new objects. Nothing is changed in place, so a
 :class:`~gaitgram.language.model.Grammar` from an earlier call stays true to its text.
@@ -31,7 +34,7 @@ and diagnostics included, over random edits.
 from __future__ import annotations
 
 from bisect import bisect_right
-from collections.abc import Mapping
+from collections.abc import Callable, Iterator, Mapping
 from typing import NamedTuple
 
 from gaitgram.collector import gc_paused
@@ -39,12 +42,13 @@ from gaitgram.language import parse
 from gaitgram.language.annotations import check_annotation
 from gaitgram.language.builder import Parts, assemble_grammar, read_parts
 from gaitgram.language.meaning import read_defines
-from gaitgram.language.model import Grammar
+from gaitgram.language.model import Grammar, RangeSymbol, Rule
 from gaitgram.language.parser import parse_tree
+from gaitgram.language.ranges import MAX_GRAMMAR_RANGE_VALUES
 from gaitgram.language.source import SourceText
 from gaitgram.language.syntax import item_lines
 
-__all__ = ["FULL_PARSE_AT", "IncrementalMismatch", "IncrementalParser", "segment_starts"]
+__all__ = ["FULL_PARSE_AT", "WINDOW", "IncrementalMismatch", "IncrementalParser", "Stale", "segment_starts"]
 
 #: With more new segments than this (and than a quarter of them), one full parse is cheaper.
 FULL_PARSE_AT = 64
@@ -87,13 +91,14 @@ def _needs_defines(text: str) -> bool:
     return "GE_RANGE:" in text
 
 
-def _read_segment(text: str, start: int, end: int, defines: Mapping[str, int]) -> Segment:
-    """Read ``text[start:end]`` alone. A one-line comment pads it to its place, so its spans
-    come out absolute without a pass to shift them."""
-    padded = ("#" * (start - 1) + "\n" if start else "") + text[start:end]
-    own = text[start:end]
-    read_with = tuple(sorted(defines.items())) if _needs_defines(own) else None
-    return Segment(own, start, read_parts(parse_tree(padded), SourceText(padded), defines), read_with)
+def _read_window(
+    source: SourceText, starts: list[int], ends: list[int], defines: Mapping[str, int]
+) -> list[Segment]:
+    """Read consecutive segments of ``source`` at once, in place (their spans come out
+    absolute), and cut what they read into those segments."""
+    window = (starts[0], ends[-1])
+    parts = read_parts(parse_tree(source.text, *window), source, defines, window)
+    return _split(parts, source.text, starts, ends, dict(defines))
 
 
 def _split(
@@ -114,15 +119,54 @@ def _split(
     for problem in parts.problems:
         buckets[where(problem.span.start)][3].append(problem)
     read_with = tuple(sorted(defines.items()))
+    refused = parts.over_budget  # a range refused for the limit: read the whole document in order
     segments = []
     for start, end, (rules, notes, joints, problems) in zip(starts, ends, buckets, strict=True):
         own = read_defines(check_annotation(a, []) for a in notes)
-        parts = Parts(tuple(rules), tuple(notes), tuple(joints), tuple(problems), own)
+        segment_parts = Parts(
+            tuple(rules), tuple(notes), tuple(joints), tuple(problems), own, _range_values(rules), refused
+        )
         segment_text = text[start:end]
         segments.append(
-            Segment(segment_text, start, parts, read_with if _needs_defines(segment_text) else None)
+            Segment(segment_text, start, segment_parts, read_with if _needs_defines(segment_text) else None)
         )
     return segments
+
+
+def _range_values(rules: list[Rule]) -> int:
+    """The values of the typed ranges of ``rules``, counted as the builder counts them."""
+    return sum(
+        symbol.spec.size
+        for rule in rules
+        for alternative in rule.alternatives
+        for symbol in alternative.symbols
+        if isinstance(symbol, RangeSymbol)
+    )
+
+
+#: A document with many new segments is read in windows of about this many characters.
+WINDOW = 1 << 16
+
+
+def _windows(missing: list[int], starts: list[int], ends: list[int]) -> Iterator[list[int]]:
+    """The missing segments (ascending) in groups to read at once: consecutive ones, up to about
+    :data:`WINDOW` characters (one read of many segments costs less than one read of each)."""
+    group: list[int] = []
+    for i in missing:
+        if group and (i != group[-1] + 1 or ends[group[-1]] - starts[group[0]] >= WINDOW):
+            yield group
+            group = []
+        group.append(i)
+    if group:
+        yield group
+
+
+def _never() -> bool:
+    return False
+
+
+class Stale(Exception):
+    """The text was read no further: the caller's ``stop`` said it is out of date."""
 
 
 class IncrementalMismatch(AssertionError):
@@ -170,11 +214,15 @@ class IncrementalParser:
         self._kept = {}
         self._defines = dict(self.external_defines)
 
-    def parse(self, text: str | SourceText) -> Grammar:
-        """The same grammar as ``parse(text)``; earlier results are left as they were."""
+    def parse(self, text: str | SourceText, stop: Callable[[], bool] | None = None) -> Grammar:
+        """The same grammar as ``parse(text)``; earlier results are left as they were.
+
+        ``stop`` is asked between the parts read (about :data:`WINDOW` characters each): once it
+        says yes, :class:`Stale` is raised, and what was read so far is kept for the next call
+        (the language server stops reading a text the user has already changed)."""
         source = text if isinstance(text, SourceText) else SourceText(text)
         with gc_paused():
-            grammar = self._parse(source)
+            grammar = self._parse(source, stop or _never)
         if self.verify:
             full = parse(source, defines=self.external_defines)
             for part in _COMPARED:
@@ -183,7 +231,7 @@ class IncrementalParser:
                     raise IncrementalMismatch(f"incremental parse differs from a full parse in {part}")
         return grammar
 
-    def _parse(self, source: SourceText) -> Grammar:
+    def _parse(self, source: SourceText, stop: Callable[[], bool]) -> Grammar:
         text = source.text
         starts = segment_starts(text)
         ends = [*starts[1:], len(text)]
@@ -197,31 +245,54 @@ class IncrementalParser:
             else:
                 segments.append(None)
                 missing.append(i)
-
-        if len(missing) > max(self.full_parse_at, len(starts) // 4):
-            parts = read_parts(parse_tree(text), source, self.external_defines)
-            defines = {**parts.defines, **self.external_defines}
-            self._keep(_split(parts, text, starts, ends, defines), defines)
-            self.last_reads = "full"
-            return assemble_grammar(source, [parts], defines)
-
-        for i in missing:
-            segments[i] = _read_segment(text, starts[i], ends[i], self._defines)
-        filled: list[Segment] = segments  # type: ignore[assignment]  # every hole is filled
-        ready = [segment.at(start) for segment, start in zip(filled, starts, strict=True)]
-        defines: dict[str, int] = {}
-        for segment in ready:
-            defines.update(segment.parts.defines)
-        defines.update(self.external_defines)
-        key = tuple(sorted(defines.items()))
-        reread = 0
-        for i, segment in enumerate(ready):
-            if segment.needs_defines and segment.read_with != key:
-                ready[i] = _read_segment(text, starts[i], ends[i], defines)
-                reread += 1
+        full = len(missing) > max(self.full_parse_at, len(starts) // 4)
+        if full:  # read everything again, as a parse of the whole text would
+            segments = [None] * len(starts)
+            missing = list(range(len(starts)))
+        try:
+            for run in _windows(missing, starts, ends):
+                if stop():
+                    raise Stale
+                first, last = run[0], run[-1] + 1
+                segments[first:last] = _read_window(
+                    source, starts[first:last], ends[first:last], self._defines
+                )
+            filled: list[Segment] = segments  # type: ignore[assignment]  # every hole is filled
+            if sum(s.parts.range_values for s in filled) > MAX_GRAMMAR_RANGE_VALUES or any(
+                s.parts.over_budget for s in filled
+            ):  # the limit counts in document order, over the whole document
+                return self._whole(source)
+            ready = [segment.at(start) for segment, start in zip(filled, starts, strict=True)]
+            defines: dict[str, int] = {}
+            for segment in ready:
+                defines.update(segment.parts.defines)
+            defines.update(self.external_defines)
+            key = tuple(sorted(defines.items()))
+            reread = 0
+            for i, segment in enumerate(ready):
+                if segment.needs_defines and segment.read_with != key:
+                    if stop():
+                        raise Stale
+                    ready[i] = _read_window(source, [starts[i]], [ends[i]], defines)[0]
+                    reread += 1
+        except Stale:  # keep what was read, and what was found kept, for the next text
+            for segment in reversed(segments):
+                if segment is not None:
+                    kept.setdefault(segment.text, []).append(segment)
+            raise
         self._keep(ready, defines)
-        self.last_reads = len(missing) + reread
+        self.last_reads = "full" if full else len(missing) + reread
         return assemble_grammar(source, [segment.parts for segment in ready], defines)
+
+    def _whole(self, source: SourceText) -> Grammar:
+        """The whole document read at once, in order (its ranges have passed the grammar's limit on
+        range values, which counts in document order). Nothing is kept: after an edit a
+        segment's ranges may read otherwise."""
+        parts = read_parts(parse_tree(source.text), source, self.external_defines)
+        defines = {**parts.defines, **self.external_defines}
+        self._keep([], defines)
+        self.last_reads = "full"
+        return assemble_grammar(source, [parts], defines)
 
     def _keep(self, segments: list[Segment], defines: dict[str, int]) -> None:
         kept: dict[str, list[Segment]] = {}

@@ -18,7 +18,7 @@ import re
 from collections.abc import Iterator, Sequence
 
 from lark.common import LexerConf
-from lark.lexer import Lexer, TerminalDef, Token
+from lark.lexer import Lexer, LexerState, TerminalDef, Token
 
 STRUCTURAL_TERMINALS = ("RULE_HEAD", "ANNOTATION")
 PIECE_TERMINALS = (
@@ -82,7 +82,7 @@ class Scanner:
         structural = _alternation(pick(STRUCTURAL_TERMINALS), named=False)
         pieces = pick(PIECE_TERMINALS)
         self._pieces = re.compile(_alternation(pieces))
-        self.run = re.compile(f"(?:(?!{structural})(?:{_alternation(pieces, named=False)}))*")
+        self.run = re.compile(f"(?:(?!{structural})(?:{_alternation(pieces, named=False)}))*+")
         self.structural = re.compile(_alternation(pick(STRUCTURAL_TERMINALS)))
         self.arguments = re.compile(_alternation(pick(ARGUMENT_TERMINALS)))
 
@@ -105,28 +105,35 @@ class KeepScannerTerminals:
 
 
 class GgLexer(Lexer):
-    """Lark custom lexer for ``.gg`` documents."""
+    """Lark custom lexer for ``.gg`` documents: the whole text, or a window of it (lark's
+    ``TextSlice``) read in place, its tokens at their offsets in the whole text."""
+
+    __future_interface__ = 2  # lark hands over its lexer state, whose text may be a window
 
     def __init__(self, conf: LexerConf) -> None:
         self._scanner = Scanner(conf.terminals)
 
-    def lex(self, text: str, parser_state: object = None) -> Iterator[Token]:  # type: ignore[override]
+    def lex(self, lexer_state: LexerState, parser_state: object = None) -> Iterator[Token]:  # type: ignore[override]
+        window = lexer_state.text
+        return self.tokens(window.text, window.start, window.end)
+
+    def tokens(self, text: str, pos: int, size: int) -> Iterator[Token]:
+        """The tokens of ``text[pos:size]``; ``pos`` is a line start (or 0)."""
         run, structural, arguments = self._scanner.run, self._scanner.structural, self._scanner.arguments
-        pos, size = 0, len(text)
         while pos < size:
-            end = run.match(text, pos).end()  # type: ignore[union-attr]  # matches the empty run too
+            end = run.match(text, pos, size).end()  # type: ignore[union-attr]  # matches the empty run too
             if end > pos:
                 yield Token("PIECES", text[pos:end], pos, end_pos=end)
                 pos = end
                 continue
-            match = structural.match(text, pos)
+            match = structural.match(text, pos, size)
             assert match is not None, f"no terminal matches at offset {pos}"
             yield _token(match)
             pos = match.end()
             if match.lastgroup == "ANNOTATION":
                 # An annotation's arguments run to the end of its line.
                 while pos < size:
-                    match = arguments.match(text, pos)
+                    match = arguments.match(text, pos, size)
                     # ARG_JUNK, WS and NEWLINE between them match any character.
                     assert match is not None, f"no terminal matches at offset {pos}"
                     yield _token(match)

@@ -7,6 +7,7 @@ import re
 from functools import cache
 
 from lark import Lark, Token, Tree
+from lark.utils import TextSlice
 
 from gaitgram.language.lexer import GgLexer, KeepScannerTerminals, Scanner
 from gaitgram.language.parser_cache import cached_lark
@@ -53,9 +54,13 @@ def terminal(name: str) -> re.Pattern[str]:
     raise KeyError(f"gaitgram.lark has no terminal {name}")
 
 
-def parse_tree(text: str) -> Tree:
-    """Parse a whole document. The grammar is total, so this does not fail on bad input."""
-    return document_parser().parse(text)
+def parse_tree(text: str, start: int = 0, end: int | None = None) -> Tree:
+    """Parse a whole document, or the part of it from ``start`` (a line start) to ``end``, read in
+    place: its tokens have their offsets in ``text``. The grammar is total, so this does not fail
+    on bad input."""
+    if start == 0 and end is None:
+        return document_parser().parse(text)
+    return document_parser().parse(TextSlice(text, start, len(text) if end is None else end))
 
 
 def tree_start(tree: Tree) -> int:

@@ -176,7 +176,7 @@ EMPTY_ALTERNATIVE = Code(
 
 
 def empty_alternative(text: str, pipe: Span, rule: str) -> Diagnostic:
-    """An alternative with nothing in it, next to the ``|`` at ``pipe``."""
+    """An alternative with nothing in it, next to the ``|`` at ``pipe`` (in ``text``, the document)."""
     gone = _pipe_removal(text, pipe.start, pipe.end)
     fixes = [] if gone is None else [Fix("Delete the extra |", (TextEdit(gone, ""),), SAFE, True)]
     return EMPTY_ALTERNATIVE(
@@ -194,11 +194,13 @@ _AT = re.compile(r"[ \t]*@")
 def _pipe_removal(text: str, start: int, end: int) -> Span | None:
     """A ``|`` with the spaces before it on its line, or else those after it; None if what
     follows would then start its line with ``@`` and so become an annotation."""
-    line_start = text.rfind("\n", 0, start) + 1
-    if not text[line_start:start].strip() and _AT.match(text, end):
+    blank = start  # only the blanks before it are read, never the whole line
+    while blank > 0 and text[blank - 1] != "\n" and text[blank - 1].isspace():
+        blank -= 1
+    if (blank == 0 or text[blank - 1] == "\n") and _AT.match(text, end):
         return None
     before = start
-    while before > line_start and text[before - 1] in " \t":
+    while before > 0 and text[before - 1] in " \t":
         before -= 1
     if before < start:
         return Span(before, end)
@@ -279,14 +281,16 @@ UNENCODABLE_TEXT = Code(
 _SURROGATES = re.compile("[\ud800-\udfff]+")
 
 
-def unencodable_text(source: SourceText) -> list[Diagnostic]:
-    """GG109 for each run of text that cannot be encoded as UTF-8, which every command that
-    writes the grammar, its phenotypes or its tables out would otherwise fail on later."""
+def unencodable_text(source: SourceText, start: int = 0, end: int | None = None) -> list[Diagnostic]:
+    """GG109 for each run of text (from ``start`` to ``end``) that cannot be encoded as UTF-8, which
+    every command that writes the grammar, its phenotypes or its tables out would otherwise fail
+    on later."""
     text = source.text
-    if text.isascii():
+    end = len(text) if end is None else end
+    if (text if start == 0 and end == len(text) else text[start:end]).isascii():
         return []
     problems = []
-    for match in _SURROGATES.finditer(text):
+    for match in _SURROGATES.finditer(text, start, end):
         run = match.group()
         points = ", ".join(f"U+{ord(c):04X}" for c in run[:4]) + (", ..." if len(run) > 4 else "")
         what = "a lone UTF-16 surrogate, not a character" if len(run) == 1 else "UTF-16 surrogates"
@@ -326,7 +330,7 @@ DANGLING_ANNOTATION = Code(
 )
 
 
-def dangling_annotation(text: str, annotation: Annotation) -> Diagnostic:
+def dangling_annotation(text: SourceText, annotation: Annotation) -> Diagnostic:
     return DANGLING_ANNOTATION(
         f"@{annotation.name} annotates the rule after it, but no rule follows",
         annotation.span,

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import re
 import threading
+from bisect import bisect_left
 from dataclasses import dataclass, replace
 from decimal import Decimal, Inexact, Rounded, localcontext
 from fractions import Fraction
@@ -46,15 +47,18 @@ from gaitgram.language.numbers import (
     written_decimals,
 )
 from gaitgram.language.parser import range_parser, terminal
+from gaitgram.language.source import SourceText
 
 __all__ = [
     "CODES",
+    "MAX_GRAMMAR_RANGE_VALUES",
     "MAX_RANGE_VALUES",
+    "OpenRanges",
     "RangeEdit",
     "RangeFix",
     "RangeProblem",
     "apply_range_edits",
-    "no_open_range_before",
+    "over_budget_problem",
     "parse_range",
     "range_reads",
     "range_token",
@@ -62,6 +66,11 @@ __all__ = [
 
 #: A range larger than this is almost certainly a typo, and would cost memory.
 MAX_RANGE_VALUES = 100_000
+#: The values all of a grammar's typed ranges may hold together (one range's for each place it
+#: is written). Each value is a string in the model and a choice in the analyses, so without a
+#: bound a few hundred bytes of large ranges would take gigabytes and minutes; the bundled
+#: grammars hold about 1,500.
+MAX_GRAMMAR_RANGE_VALUES = 1_000_000
 
 #: Extra decimals for ``count`` ranges, whose step rarely terminates.
 COUNT_EXTRA_DECIMALS = 2
@@ -113,7 +122,9 @@ TOO_LARGE = Code(
     "range-too-large",
     E,
     "a typed range with too many values",
-    "A typed range has more than 100,000 values. Use a coarser step or a smaller count.",
+    "A typed range has more than 100,000 values, or takes a grammar's typed ranges past 1,000,000 values "
+    "in all (counted where each is written). Use a coarser step or a smaller count, or write a range "
+    "used in many places once, in a rule of its own.",
 )
 KIND_MISMATCH = Code(
     "GG305",
@@ -197,6 +208,9 @@ class RangeProblem:
     offset: int = 0
     length: int | None = None
     fix: RangeFix | None = None
+    #: Refused for the values its grammar has left (:data:`MAX_GRAMMAR_RANGE_VALUES`), not for
+    #: itself: read alone, it may be fine.
+    over_budget: bool = False
 
 
 # ---- ranges --------------------------------------------------------------------------------
@@ -210,11 +224,25 @@ _RECENT_VALUES = 1_000
 _RECENT_LOCK = threading.Lock()  # the language server reads documents on worker threads
 
 
-def parse_range(text: str) -> tuple[RangeSpec | None, list[RangeProblem]]:
-    """Read a range's text. Returns the spec (None if unusable) and its problems."""
+class _OverBudget(Exception):
+    """A range with more values than its grammar has left (``budget``): it is not made."""
+
+    def __init__(self, size: int) -> None:
+        self.size = size
+
+
+def parse_range(text: str, budget: int = MAX_RANGE_VALUES) -> tuple[RangeSpec | None, list[RangeProblem]]:
+    """Read a range's text. Returns the spec (None if unusable) and its problems. A range of more
+    than ``budget`` values (what its grammar has left of :data:`MAX_GRAMMAR_RANGE_VALUES`) is
+    refused before its values are made."""
     found = _RECENT.get(text)
+    if found is not None and found[0] is not None and found[0].size > budget:
+        return None, [over_budget_problem(text, found[0].size)]
     if found is None:
-        spec, problems = _read_range(text)
+        try:
+            spec, problems = _read_range(text, budget)
+        except _OverBudget as over:
+            return None, [over_budget_problem(text, over.size)]
         found = spec, tuple(problems)
         if spec is None or spec.size <= _RECENT_VALUES:
             with _RECENT_LOCK:
@@ -224,14 +252,14 @@ def parse_range(text: str) -> tuple[RangeSpec | None, list[RangeProblem]]:
     return found[0], list(found[1])
 
 
-def _read_range(text: str) -> tuple[RangeSpec | None, list[RangeProblem]]:
+def _read_range(text: str, budget: int = MAX_RANGE_VALUES) -> tuple[RangeSpec | None, list[RangeProblem]]:
     try:
         tree = range_parser().parse(text)
     except (UnexpectedCharacters, UnexpectedToken, UnexpectedEOF) as exc:
         return None, [_syntax_problem(text, exc)]
     except LarkError as exc:  # pragma: no cover - defensive: lark's other errors
         return None, [RangeProblem(MALFORMED_RANGE, f"malformed range: {exc}")]
-    return _evaluate(text, tree)
+    return _evaluate(text, tree, budget)
 
 
 _RANGE_FORMS = "write int[LO..HI], float[LO..HI step S], float[LO..HI count N] or float[X ± P% count N]"
@@ -270,7 +298,9 @@ def _unclosed(text: str, position: int) -> RangeFix | None:
 _PLAIN_REST = re.compile(r"[^'\"<#\\]*")
 
 
-def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProblem]]:
+def _evaluate(
+    text: str, tree: Tree, budget: int = MAX_RANGE_VALUES
+) -> tuple[RangeSpec | None, list[RangeProblem]]:
     kind = RangeKind(str(tree.children[0]))
     bounds = next(c for c in tree.children if isinstance(c, Tree) and c.data in ("interval", "relative"))
     option = next((c for c in tree.children if isinstance(c, Tree) and c.data.endswith("_option")), None)
@@ -401,6 +431,8 @@ def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProble
 
     problems: list[RangeProblem] = []
     if count is not None:
+        if count > budget:
+            raise _OverBudget(count)
         written = [written_decimals(read_number(str(n))) for n in numbers]
         decimals = (
             max(written[0], decimal_places(low), decimal_places(high)) if center is not None else max(written)
@@ -408,7 +440,7 @@ def _evaluate(text: str, tree: Tree) -> tuple[RangeSpec | None, list[RangeProble
         values = _count_values(text, low, high, count, decimals, center is None, problems)
     else:
         assert step is not None
-        values = _step_values(text, low, high, center, step, problems, numbers[-1])
+        values = _step_values(text, low, high, center, step, problems, numbers[-1], budget)
     if values is None:
         return None, problems
     return RangeSpec(kind, canonical_text(kind, bounds.data, numbers, option), tuple(values)), problems
@@ -422,6 +454,7 @@ def _step_values(
     step: Decimal,
     problems: list[RangeProblem],
     high_token: Token | None = None,
+    budget: int = MAX_RANGE_VALUES,
 ) -> list[str] | None:
     """``low, low+step, ...`` up to ``high``; or, centred, ``center ± k·step`` within the bounds.
 
@@ -438,6 +471,8 @@ def _step_values(
     if size > MAX_RANGE_VALUES:
         problems.append(_too_large(text, size))
         return None
+    if size > budget:
+        raise _OverBudget(size)
     start, stride = in_units(origin, places), in_units(step, places)
     units = [start + stride * i for i in range(first, first + size)]
     if center is None and Fraction(units[-1], 10**places) != Fraction(high):
@@ -614,6 +649,17 @@ def _too_large(text: str, size: int | None, shown: str | None = None) -> RangePr
     )
 
 
+def over_budget_problem(text: str, size: int) -> RangeProblem:
+    """A range (or a ``GE_RANGE``) of ``size`` values, more than its grammar has left."""
+    return RangeProblem(
+        TOO_LARGE,
+        f"range {text!r} has {size:,} values, more than the grammar's typed ranges have left: "
+        f"they may hold {MAX_GRAMMAR_RANGE_VALUES:,} in all, counted where each is written",
+        "use coarser steps or smaller counts, or write a range once in a rule of its own",
+        over_budget=True,
+    )
+
+
 # ---- the range syntax of the grammar ----------------------------------------------------------
 
 
@@ -622,16 +668,37 @@ def range_token() -> re.Pattern[str]:
     return terminal("RANGE")
 
 
+_CLOSING = re.compile(r"\]")
+
+
 @cache
-def _open_range() -> re.Pattern[str]:
-    """A range's kind and ``[`` with no ``]`` after it, up to the end of the text searched."""
-    return re.compile(rf"(?:{terminal('RANGE_KIND').pattern})\[[^\]]*$")
+def _range_opening() -> re.Pattern[str]:
+    """A range's kind and ``[``: where a range may start."""
+    return re.compile(rf"(?:{terminal('RANGE_KIND').pattern})\[")
 
 
-def no_open_range_before(text: str, start: int) -> bool:
-    """Whether no ``int[``/``float[`` before ``start`` on its line is left open: else a ``]``
-    that a fix writes could close that one instead, and swallow everything in between."""
-    return _open_range().search(text, text.rfind("\n", 0, start) + 1, start) is None
+class OpenRanges:
+    """Whether an ``int[``/``float[`` is left open before an offset, for many offsets of one
+    text: else a ``]`` that a fix writes could close that one instead, and swallow everything
+    in between. Every ``]`` and every opening are found once, on the first question, so a line
+    of thousands of malformed ranges costs a search per range, not a read of the line."""
+
+    def __init__(self, source: SourceText) -> None:
+        self.source = source
+        self._closings: list[int] | None = None
+        self._openings: list[tuple[int, int]] = []
+
+    def none_before(self, start: int) -> bool:
+        """Whether no opening before ``start`` on its line lacks a ``]`` after it (up to ``start``)."""
+        text = self.source.text
+        if self._closings is None:
+            self._openings = [(m.start(), m.end()) for m in _range_opening().finditer(text)]
+            self._closings = [m.start() for m in _CLOSING.finditer(text)]
+        line_start = self.source.line_start_of(start)
+        last = bisect_left(self._closings, start) - 1  # the last ] before start
+        after = max(line_start, self._closings[last] + 1 if last >= 0 else 0)
+        first = bisect_left(self._openings, (after, after))
+        return first == len(self._openings) or self._openings[first][1] > start
 
 
 def range_reads(text: str) -> bool:

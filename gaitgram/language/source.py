@@ -116,6 +116,15 @@ class SourceText:
         start = self.line_starts[line - 1]
         return min(start + max(column, 1) - 1, self.line_end(line))
 
+    def line_start_of(self, offset: int) -> int:
+        """The offset where the line holding ``offset`` starts: a search of the line index, not a
+        scan of the text (a line may be megabytes long and hold thousands of diagnostics)."""
+        return self.line_starts[bisect_right(self.line_starts, offset) - 1]
+
+    def line_end_of(self, offset: int) -> int:
+        """The offset of the newline ending the line holding ``offset`` (or the end of the text)."""
+        return self.line_end(bisect_right(self.line_starts, offset))
+
     def line_end(self, line: int) -> int:
         if line < len(self.line_starts):
             return self.line_starts[line] - 1

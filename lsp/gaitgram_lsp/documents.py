@@ -36,10 +36,10 @@ from gaitgram.analysis import CheckResult, check
 from gaitgram.collector import gc_paused
 from gaitgram.ide.workspace import WorkspaceGrammars, grammar_files
 from gaitgram.language import parse
-from gaitgram.language.incremental import IncrementalParser
-from gaitgram.language.source import SourceText
+from gaitgram.language.incremental import IncrementalParser, Stale
+from gaitgram.language.source import MAX_SOURCE_BYTES, SourceText
 from gaitgram_lsp.features.completion import CompletionModel
-from gaitgram_lsp.features.diagnostics import WireDiagnostic, to_lsp, wire_diagnostics
+from gaitgram_lsp.features.diagnostics import SOURCE, WireCache, WireDiagnostic, to_lsp
 from gaitgram_lsp.positions import UTF16, ClientText, PositionIndex
 
 log = logging.getLogger(__name__)
@@ -51,6 +51,21 @@ DEBOUNCE_SECONDS = 0.03
 IDLE_COLLECT_SECONDS = 5.0
 #: Set to compare every incremental parse with a full one (slow; for tests and bug hunts).
 VERIFY_ENV = "GAITGRAM_LSP_VERIFY"
+#: Documents analysed at the same time (each in its own worker thread).
+WORKERS = 4
+
+
+def too_large(text: str) -> str | None:
+    """Why ``text`` is not analysed, if it is larger than ``gaitgram check`` reads a grammar."""
+    if len(text) * 4 <= MAX_SOURCE_BYTES:  # no character takes more than 4 bytes
+        return None
+    size = len(text.encode("utf-8", "surrogatepass"))
+    if size <= MAX_SOURCE_BYTES:
+        return None
+    return (
+        f"this document is {size / 1e6:.1f} MB; grammars over {MAX_SOURCE_BYTES / 1e6:.1f} MB are not "
+        "analysed (gaitgram check refuses them too): split it into smaller files"
+    )
 
 
 @dataclass(eq=False)
@@ -65,6 +80,10 @@ class Snapshot:
     wire_diagnostics: list[WireDiagnostic]
     #: Names this result for pull diagnostics (``previousResultId``).
     result_id: str = field(default_factory=lambda: str(next(_result_ids)))
+    #: The text was too large to analyse: ``result`` is of no text, and requests get nothing.
+    refused: bool = False
+    #: Each of ``wire_diagnostics`` as JSON, when it was made with them (``WireCache``).
+    encoded: list[str] | None = None
 
     @cached_property
     def diagnostics(self) -> list[types.Diagnostic]:
@@ -74,10 +93,13 @@ class Snapshot:
     def published_params(self) -> str:
         """``publishDiagnostics`` parameters as JSON: encoded in the analysis thread, so the
         event loop only writes them (thousands of diagnostics take tens of milliseconds)."""
-        params = {"uri": self.uri, "diagnostics": self.wire_diagnostics}
-        if self.version is not None:
-            params["version"] = self.version
-        return json.dumps(params, separators=(",", ":"))
+        if self.encoded is None:
+            params = {"uri": self.uri, "diagnostics": self.wire_diagnostics}
+            if self.version is not None:
+                params["version"] = self.version
+            return json.dumps(params, separators=(",", ":"))
+        version = "" if self.version is None else f',"version":{self.version}'
+        return f'{{"uri":{json.dumps(self.uri)},"diagnostics":[{",".join(self.encoded)}]{version}}}'
 
     @cached_property
     def completion(self) -> CompletionModel:
@@ -101,27 +123,40 @@ def analyse(
     encoding: str = UTF16,
     parser: IncrementalParser | None = None,
     defines: Mapping[str, int] | None = None,
+    stop: Callable[[], bool] | None = None,
+    wire: WireCache | None = None,
 ) -> Snapshot:
-    """Parse and check ``text``: what ``gaitgram check`` does, reusing ``parser``'s work."""
+    """Parse and check ``text``: what ``gaitgram check`` does, reusing ``parser``'s work.
+    ``stop`` is asked between the parts of the work: once it says yes, :class:`Stale` is raised
+    (the text has changed, and the rest would be of no use)."""
+    stale = stop or (lambda: False)
     source = SourceText(text)
     if parser is None:
         grammar = parse(source, defines=defines)
     else:
         try:
-            grammar = parser.parse(source)
+            grammar = parser.parse(source, stale)
+        except Stale:
+            raise
         except Exception:  # a bug in the incremental path must cost speed, never answers
             log.exception("incremental parse failed; parsing the whole document")
             parser.reset()
             grammar = parse(source, defines=parser.external_defines)
+    if stale():
+        raise Stale
     result = check(grammar)
+    if stale():
+        raise Stale
     positions = PositionIndex(source, encoding)
+    made, encoded = (wire or WireCache()).encode(result, positions)
     return Snapshot(
         uri=uri,
         version=version,
         revision=revision,
         result=result,
         positions=positions,
-        wire_diagnostics=wire_diagnostics(result, positions),
+        wire_diagnostics=made,
+        encoded=encoded,
     )
 
 
@@ -134,6 +169,8 @@ class Document:
     version: int | None
     revision: int = 0
     parser: IncrementalParser = field(default_factory=IncrementalParser)
+    #: Its diagnostics as sent last, for the next analysis to reuse.
+    wire: WireCache = field(default_factory=WireCache)
     #: The last finished analysis, of this or an earlier revision.
     snapshot: Snapshot | None = None
     #: What completion offers: from the last analysis whose model is built. Completion
@@ -172,7 +209,9 @@ class Documents:
         self.encoding: str = UTF16
         self.defines: dict[str, int] = {}
         self._open: dict[str, Document] = {}
-        self._executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="gaitgram-analysis")
+        # One document's analyses run one after another (``Document._task``); several documents'
+        # run side by side, so a large one does not hold up the analysis of the others.
+        self._executor = ThreadPoolExecutor(max_workers=WORKERS, thread_name_prefix="gaitgram-analysis")
         self._idle: asyncio.TimerHandle | None = None
 
     # ---- the client's notifications ---------------------------------------------------
@@ -272,15 +311,28 @@ class Documents:
         the collector's passes over them, in this thread or in the event loop's, took
         longer than the analysis. What is frozen is looked at again when the server is
         idle (:meth:`collect`)."""
+
+        def stale() -> bool:  # read across threads: an int and a dict look-up, atomic
+            return document.revision != revision or self._open.get(document.uri) is not document
+
         with gc_paused():
-            snapshot = analyse(
-                text,
-                uri=document.uri,
-                version=version,
-                revision=revision,
-                encoding=self.encoding,
-                parser=document.parser,
-            )
+            refusal = too_large(text)
+            if refusal is not None:
+                snapshot = refused(document.uri, version, revision, refusal)
+            else:
+                try:
+                    snapshot = analyse(
+                        text,
+                        uri=document.uri,
+                        version=version,
+                        revision=revision,
+                        encoding=self.encoding,
+                        parser=document.parser,
+                        stop=stale,
+                        wire=document.wire,
+                    )
+                except Stale:  # the text changed meanwhile: the next analysis is on its way
+                    return
             snapshot.published_params  # noqa: B018  (cached: encoded here, off the loop)
             if document.completion is None:  # the first analysis: completion is waiting for it
                 document.completion = snapshot.completion
@@ -323,6 +375,27 @@ class Documents:
         if self._idle is not None:
             self._idle.cancel()
         self._executor.shutdown(wait=False, cancel_futures=True)
+
+
+def refused(uri: str, version: int | None, revision: int, why: str) -> Snapshot:
+    """The snapshot of a text too large to analyse: one diagnostic saying so, and nothing else."""
+    empty = SourceText("")
+    return Snapshot(
+        uri=uri,
+        version=version,
+        revision=revision,
+        result=check(parse(empty)),
+        positions=PositionIndex(empty),
+        wire_diagnostics=[
+            {
+                "range": {"start": {"line": 0, "character": 0}, "end": {"line": 0, "character": 0}},
+                "message": why,
+                "severity": types.DiagnosticSeverity.Error.value,
+                "source": SOURCE,
+            }
+        ],
+        refused=True,
+    )
 
 
 # ---- grammars on disk, for workspace symbols ------------------------------------------------

@@ -41,16 +41,39 @@ def column(line: str, character: int, encoding: str) -> int:
     """The code-point column of ``character`` code units into ``line`` (clamped to the line).
 
     A position inside a character (half of a surrogate pair) means the start of that
-    character."""
+    character. Found by encoding the line's head once (no loop over its characters: a line may
+    be megabytes long, and every change and request on it asks)."""
     if encoding == UTF32 or (line.isascii() and encoding in (UTF8, UTF16)):
         return max(0, min(character, len(line)))
+    character = max(0, character)
+    head = line[:character]  # no code point is less than one code unit
+    codec, width = ("utf-8", 1) if encoding == UTF8 else ("utf-16-le", 2)
+    data = head.encode(codec, "surrogatepass")
+    cut = min(len(data), character * width)
+    if cut < len(data):  # inside the head: back to the start of the character the cut falls in
+        if width == 1:
+            while cut > 0 and data[cut] & 0xC0 == 0x80:  # a UTF-8 continuation byte
+                cut -= 1
+        elif 0xDC <= data[cut + 1] <= 0xDF and cut >= 2 and 0xD8 <= data[cut - 1] <= 0xDB:
+            cut -= 2  # between the two halves of a surrogate pair
+    found = len(data[:cut].decode(codec, "surrogatepass"))
+    if units(line[:found], encoding) <= character and (
+        found == len(line) or units(line[: found + 1], encoding) > character
+    ):
+        return found
+    # Lone surrogates that the codec joined into a pair: count character by character.
     used = 0
     for index, ch in enumerate(line):
-        width = units(ch, encoding)
-        if used + width > character:
+        used += units(ch, encoding)
+        if used > character:
             return index
-        used += width
     return len(line)
+
+
+#: On a line longer than this, the code units before every multiple of it are kept (a line's
+#: marks are made once, when first needed), so an offset's character is counted from the mark
+#: before it rather than from the line's start.
+_STRIDE = 256
 
 
 class PositionIndex:
@@ -66,6 +89,30 @@ class PositionIndex:
             or (encoding == UTF16 and _ASTRAL.search(text) is None)
             or (encoding == UTF8 and text.isascii())
         )
+
+        #: For long lines of a text whose offsets and columns differ: the code units before
+        #: each multiple of ``_STRIDE`` characters.
+        self._marks: dict[int, list[int]] = {}
+
+    def _units_before(self, line: int, offset: int) -> int:
+        """Code units from the start of ``line`` to ``offset`` (on that line)."""
+        text = self.source.text
+        start = self.source.line_starts[line]
+        character = offset - start
+        if character <= _STRIDE:
+            return units(text[start:offset], self.encoding)
+        marks = self._marks.get(line)
+        if marks is None:  # the whole line's, at once: an index may be read from two threads
+            end = self.source.line_end(line + 1)
+            marks = list(
+                accumulate(
+                    (units(text[at : at + _STRIDE], self.encoding) for at in range(start, end, _STRIDE)),
+                    initial=0,
+                )
+            )
+            self._marks[line] = marks
+        mark = character // _STRIDE
+        return marks[mark] + units(text[start + mark * _STRIDE : offset], self.encoding)
 
     def position(self, offset: int) -> types.Position:
         line, character = self.line_character(offset)
@@ -86,7 +133,7 @@ class PositionIndex:
             line = bisect_right(starts, offset) - 1
             character = offset - starts[line]
             if not self.simple and character:
-                character = units(source.text[starts[line] : offset], self.encoding)
+                character = self._units_before(line, offset)
             found.append((line, character))
         return found
 
@@ -119,7 +166,7 @@ class PositionIndex:
                 line = bisect_right(starts, offset, line) - 1
             character = offset - starts[line]
             if not self.simple and character:
-                character = units(source.text[starts[line] : offset], self.encoding)
+                character = self._units_before(line, offset)
             yield line, character
 
 

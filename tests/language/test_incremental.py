@@ -11,6 +11,7 @@ from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, ru
 
 from conftest import GRAMMARS
 from gaitgram.analysis import check
+from gaitgram.language import incremental as incremental_module
 from gaitgram.language import parse
 from gaitgram.language.incremental import IncrementalParser, segment_starts
 from gaitgram.language.model import Grammar
@@ -180,3 +181,38 @@ class EditingADocument(RuleBasedStateMachine):
 
 EditingADocument.TestCase.settings = settings(max_examples=60, stateful_step_count=12, deadline=None)
 test_an_editing_session_always_parses_as_a_whole = EditingADocument.TestCase
+
+
+@settings(max_examples=40, deadline=None)
+@given(text=texts, edits=st.lists(edit, max_size=6))
+def test_windows_of_any_size_give_the_full_parse(text: str, edits) -> None:
+    """A document is read in windows of about ``WINDOW`` characters, each in place: with windows
+    of one character (every segment read alone) the result is the same."""
+    saved = incremental_module.WINDOW
+    incremental_module.WINDOW = 1
+    try:
+        any_edits_give_the_full_parse(text, edits, 0)
+    finally:
+        incremental_module.WINDOW = saved
+
+
+def test_a_parse_stopped_as_stale_keeps_what_it_read() -> None:
+    """``stop`` is asked before each window: once it says yes the parse raises ``Stale``, and the
+    next parse reads only the segments the stopped one had not."""
+    from benchmarks.bench_check import generated_grammar
+
+    text = generated_grammar(12_000)
+    segments = len(segment_starts(text))
+    assert len(text) > 5 * incremental_module.WINDOW
+    asked: list[int] = []
+
+    def stop() -> bool:
+        asked.append(1)
+        return len(asked) > 3  # three windows read, then the text is out of date
+
+    incremental = IncrementalParser(full_parse_at=10**9)  # never one full read
+    with pytest.raises(incremental_module.Stale):
+        incremental.parse(text, stop)
+    assert len(asked) == 4
+    same(incremental, text)
+    assert 0 < incremental.last_reads < segments - 3 * 1_000  # three windows held thousands

@@ -11,7 +11,7 @@ from collections.abc import Iterator
 from difflib import get_close_matches
 from types import ModuleType
 
-from gaitgram.analysis.facts import INFINITE, GrammarFacts, derived_exactly_once, occurrence_bounds
+from gaitgram.analysis.facts import INFINITE, GrammarFacts, Occurrences, derived_exactly_once
 from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
 from gaitgram.language.model import Grammar
 
@@ -208,14 +208,15 @@ def joints(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
 
 def joints_derived_once(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
     cfg = facts.cfg
-    if not facts.start_productive:
+    if not grammar.joints or not facts.start_productive:
         return
-    once = derived_exactly_once(cfg, facts.productive)
+    occurrences = Occurrences(cfg, facts.productive)
+    once = derived_exactly_once(cfg, facts.productive, occurrences.usable)
     for joint in grammar.joints:
         target = cfg.index.get(joint.rule)
         if target is None or target in once:
             continue
-        fewest, most = occurrence_bounds(cfg, target, facts.productive)
+        fewest, most = occurrences.bounds(target)
         if fewest == 1 and most == 1:
             continue
         if most == 0:

@@ -18,10 +18,10 @@ from gaitgram.analysis.cfg import RuleKind
 from gaitgram.analysis.facts import GrammarFacts, min_depths
 from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
 from gaitgram.language.annotations import rule_references
-from gaitgram.language.edits import line_end, removal, union
+from gaitgram.language.edits import blank_end, line_end, removal, union
 from gaitgram.language.model import Grammar, NonTerminal, Rule
 from gaitgram.language.problems import UNTERMINATED_STRING
-from gaitgram.language.source import Span
+from gaitgram.language.source import SourceText, Span
 
 __all__ = [
     "CODES",
@@ -112,12 +112,7 @@ CODES = (
 
 def undefined_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
     defined = grammar.rules_by_name
-    nearest: dict[str, list[str]] = {}  # a missing name is often used many times
-
-    def near(name: str) -> list[str]:
-        if name not in nearest:
-            nearest[name] = _nearest(name, defined)
-        return nearest[name]
+    near = _Nearest(list(defined))
 
     for rule in grammar.rules:
         for ref in rule.references():
@@ -152,10 +147,9 @@ def _undefined_fixes(
     text = grammar.source.text
     at = len(text)
     if user is not None:
-        end = line_end(text, user.span.end)
-        rest = text[user.span.end : end]
-        if not rest.strip() or rest.lstrip().startswith("#"):  # nothing else on its last line
-            at = end
+        after = blank_end(text, user.span.end)
+        if after == len(text) or text[after] in "\n#":  # nothing else on its last line
+            at = line_end(grammar.source, after)
     if at == len(text):
         insert = ("\n" if text and not text.endswith("\n") else "") + f"<{name}> ::= ''\n"
     else:
@@ -170,6 +164,7 @@ def _undefined_fixes(
 
 def duplicate_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnostic]:
     first = grammar.rules_by_name
+    open_ends = _OpenStrings(grammar)
     for rule in grammar.rules:
         original = first[rule.name]
         if rule is not original:
@@ -179,21 +174,33 @@ def duplicate_rules(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnosti
                 rule.name_span,
                 rule=rule.name,
                 hint="merge the alternatives into one rule with |, or rename one of them",
-                fixes=partial(_duplicate_fixes, grammar, original, rule),
+                fixes=partial(_duplicate_fixes, grammar, original, rule, open_ends),
                 data={"name": rule.name},
             )
 
 
-def _duplicate_fixes(grammar: Grammar, original: Rule, duplicate: Rule) -> list[Fix]:
+class _OpenStrings:
+    """Where the grammar's unterminated strings end, found once when a fix first asks (not once
+    per duplicate: thousands of duplicates and strings would cost their product)."""
+
+    def __init__(self, grammar: Grammar) -> None:
+        self.grammar = grammar
+        self._ends: frozenset[int] | None = None
+
+    def __contains__(self, offset: int) -> bool:
+        if self._ends is None:
+            diagnostics = self.grammar.diagnostics
+            self._ends = frozenset(d.span.end for d in diagnostics if d.code is UNTERMINATED_STRING)
+        return offset in self._ends
+
+
+def _duplicate_fixes(grammar: Grammar, original: Rule, duplicate: Rule, open_ends: _OpenStrings) -> list[Fix]:
     """Merge the ignored definition's alternatives into the first one, or delete it."""
     text = grammar.source.text
-    gone = _rule_removal(text, duplicate)
+    gone = _rule_removal(grammar.source, duplicate)
     fixes = []
     # Text added after an unterminated string would be part of it.
-    open_string = any(
-        d.code is UNTERMINATED_STRING and d.span.end == original.span.end for d in grammar.diagnostics
-    )
-    if duplicate.alternatives and not duplicate.annotations and not open_string:
+    if duplicate.alternatives and not duplicate.annotations and original.span.end not in open_ends:
         alternatives = text[duplicate.span_of(duplicate.alternatives[0]).start : duplicate.span.end]
         joined = f" | {alternatives}" if original.alternatives else f" {alternatives}"
         end = original.span.end
@@ -212,7 +219,7 @@ def _duplicate_fixes(grammar: Grammar, original: Rule, duplicate: Rule) -> list[
     return fixes
 
 
-def _rule_removal(text: str, rule: Rule) -> Span:
+def _rule_removal(text: SourceText, rule: Rule) -> Span:
     """A rule with its annotations, and its lines if nothing else is on them."""
     start = min([rule.span.start, *(a.span.start for a in rule.annotations)])
     return removal(text, start, rule.span.end)
@@ -348,8 +355,8 @@ class _Removals:
         for n in removed:
             found = self._spans.get(n)
             if found is None:
-                text = self.grammar.source.text
-                found = self._spans[n] = [_rule_removal(text, rule) for rule in self.definitions[n]]
+                source = self.grammar.source
+                found = self._spans[n] = [_rule_removal(source, rule) for rule in self.definitions[n]]
             spans += found
         edits = []
         for span in union(spans) if len(spans) > 1 else spans:
@@ -385,8 +392,37 @@ def unit_rule_chains(grammar: Grammar, facts: GrammarFacts) -> Iterator[Diagnost
             )
 
 
-def _nearest(name: str, candidates: dict[str, object]) -> list[str]:
-    """Up to three defined names close to ``name``, closest first."""
-    if len(candidates) > 5000:  # difflib is quadratic-ish; keep it cheap on huge grammars
-        return [c for c in candidates if c.lower() == name.lower()][:3]
-    return get_close_matches(name, list(candidates), n=3, cutoff=0.6)
+#: Name comparisons (difflib's) all the did-you-mean hints of one check may make: each missing
+#: name is compared with every defined one, so without a budget thousands of each cost their
+#: product. A name past the budget is matched only case-insensitively.
+NEAREST_BUDGET = 100_000
+#: Names longer than this are matched only case-insensitively (difflib is quadratic in length).
+NEAREST_LONGEST = 64
+
+
+class _Nearest:
+    """Up to three defined names close to a missing one, closest first, each name looked up once."""
+
+    def __init__(self, names: list[str]) -> None:
+        self.names = names
+        self.budget = NEAREST_BUDGET
+        self._found: dict[str, list[str]] = {}  # a missing name is often used many times
+        self._folded: dict[str, list[str]] | None = None
+
+    def __call__(self, name: str) -> list[str]:
+        found = self._found.get(name)
+        if found is None:
+            if len(name) <= NEAREST_LONGEST and len(self.names) <= self.budget:
+                self.budget -= len(self.names)
+                found = get_close_matches(name, self.names, n=3, cutoff=0.6)
+            else:
+                found = self._same_but_case(name)
+            self._found[name] = found
+        return found
+
+    def _same_but_case(self, name: str) -> list[str]:
+        if self._folded is None:
+            self._folded = {}
+            for candidate in self.names:
+                self._folded.setdefault(candidate.lower(), []).append(candidate)
+        return self._folded.get(name.lower(), [])[:3]
