@@ -10,10 +10,12 @@ from __future__ import annotations
 import argparse
 import asyncio
 import contextvars
+import functools
 import json
 import logging
 import sys
 import threading
+from collections.abc import Awaitable, Callable
 from functools import cache
 from typing import BinaryIO
 
@@ -28,13 +30,14 @@ from pygls.exceptions import (
     JsonRpcInvalidRequest,
     JsonRpcServerNotInitialized,
 )
-from pygls.io_ import StdinAsyncReader, StdoutWriter, run_async
+from pygls.io_ import StdoutWriter
 from pygls.lsp.server import LanguageServer
 from pygls.protocol import JsonRPCNotification, JsonRPCProtocol, LanguageServerProtocol, default_converter
 from pygls.protocol.json_rpc import RPCMessage
 from pygls.protocol.language_server import lsp_method
 
 from gaitgram import __version__
+from gaitgram_lsp import framing
 from gaitgram_lsp.documents import Documents, Snapshot, workspace_grammars
 from gaitgram_lsp.features import (
     code_actions,
@@ -242,30 +245,26 @@ class GaitgramServer(LanguageServer):
         self.exit_status = 0
 
     def _start_io_async(self, stdin: BinaryIO | None = None, stdout: BinaryIO | None = None) -> None:
-        """As pygls's, but stdin is read on the event loop as an asyncio pipe. pygls reads every
-        header line and body with its own thread-pool call, three thread hand-offs per message
-        (about 1 ms): 200 changes sent at once then held up a completion queued behind them for
-        a fifth of a second. Stdin that is not a pipe (a regular file) keeps pygls's reader."""
+        """As pygls's, but messages are framed by :mod:`gaitgram_lsp.framing` (headers read as the
+        base protocol says; a malformed message answered, never ending the stream), and stdin is
+        read on the event loop as an asyncio pipe. pygls reads every header line and body with its
+        own thread-pool call, three thread hand-offs per message (about 1 ms): 200 changes sent at
+        once then held up a completion queued behind them for a fifth of a second. Stdin that is
+        not a pipe (a regular file) is read in the thread pool."""
         self._stop_event = threading.Event()
         self.protocol.set_writer(StdoutWriter(stdout or sys.stdout.buffer))
 
         async def serve() -> None:
             source = stdin or sys.stdin.buffer
-            reader: asyncio.StreamReader | StdinAsyncReader = asyncio.StreamReader()
+            loop = asyncio.get_running_loop()
+            reader = asyncio.StreamReader()
+            read: Callable[[int], Awaitable[bytes]] = reader.read
             try:
-                await asyncio.get_running_loop().connect_read_pipe(
-                    lambda: asyncio.StreamReaderProtocol(reader),
-                    source,  # type: ignore[arg-type]
-                )
+                await loop.connect_read_pipe(lambda: asyncio.StreamReaderProtocol(reader), source)
             except (ValueError, OSError):
-                reader = StdinAsyncReader(source, self.thread_pool)
-            await run_async(
-                stop_event=self._stop_event,
-                reader=reader,  # type: ignore[arg-type]
-                protocol=self.protocol,
-                logger=logger,
-                error_handler=self.report_server_error,
-            )
+                take = getattr(source, "read1", source.read)
+                read = functools.partial(loop.run_in_executor, self.thread_pool, take)  # type: ignore[assignment]
+            await self._serve(read)
 
         try:
             asyncio.run(serve())
@@ -277,6 +276,34 @@ class GaitgramServer(LanguageServer):
             pass
         finally:
             self.shutdown()
+
+    async def _serve(self, read: Callable[[int], Awaitable[bytes]]) -> None:
+        await framing.serve(
+            read,
+            self.protocol,
+            self.protocol._refuse,
+            self._stop_event.is_set,
+            self.report_server_error,
+        )
+
+    def start_tcp(self, host: str, port: int) -> None:
+        """As pygls's, with messages framed as on stdio (:mod:`gaitgram_lsp.framing`)."""
+        self._stop_event = threading.Event()
+
+        async def connection(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+            self.protocol.set_writer(writer)  # type: ignore[arg-type]  # pygls writes to it as pygls does
+            await self._serve(reader.read)
+            self.shutdown()
+
+        async def listen() -> None:
+            self._server = await asyncio.start_server(connection, host, port)
+            async with self._server:
+                await self._server.serve_forever()
+
+        try:
+            asyncio.run(listen())
+        except asyncio.CancelledError:
+            logger.debug("Server was cancelled")
 
     def configure(self, params: types.InitializeParams) -> None:
         """What the client can do, and the options it passes (``debounce`` in ms, ``defines``)."""

@@ -39,6 +39,12 @@ class RawServer:
         self.process.stdin.write(b"Content-Length: %d\r\n\r\n" % len(body) + body)
         self.process.stdin.flush()
 
+    def send_bytes(self, data: bytes) -> None:
+        """Bytes as they are, framed (or misframed) by the caller."""
+        assert self.process.stdin is not None
+        self.process.stdin.write(data)
+        self.process.stdin.flush()
+
     def answers(self, ids: set[Any], timeout: float = 30.0) -> dict[Any, dict[str, Any]]:
         """The answers to ``ids`` (requests, or any message with an id), waiting for them at
         most ``timeout`` seconds; those that did not come are missing."""
