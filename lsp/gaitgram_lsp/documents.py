@@ -338,6 +338,8 @@ class Documents:
                 document.completion = snapshot.completion
             gc.freeze()
         loop.call_soon_threadsafe(self._deliver, document, snapshot)
+        if stale():  # edits came meanwhile: the next analysis builds these, for its own text
+            return
         with gc_paused():  # once the diagnostics are out: what requests read
             document.completion = snapshot.completion
             snapshot.result.facts.recursive  # noqa: B018  (cached: hover shows it)
@@ -347,7 +349,7 @@ class Documents:
         """On the loop: keep the snapshot, and publish it if its text is still current."""
         if self._idle is not None:
             self._idle.cancel()
-        self._idle = asyncio.get_running_loop().call_later(IDLE_COLLECT_SECONDS, self.collect)
+        self._idle = asyncio.get_running_loop().call_later(IDLE_COLLECT_SECONDS, self._collect_when_idle)
         if self._open.get(document.uri) is not document:
             return
         document.snapshot = snapshot
@@ -362,6 +364,17 @@ class Documents:
                 future.set_result(
                     snapshot if snapshot is not None and snapshot.revision == revision else None
                 )
+
+    def _collect_when_idle(self) -> None:
+        """:meth:`collect`, unless a document is being analysed (another document's analysis
+        runs on: a collection then would walk the model it is building, holding every thread
+        up for seconds on a large one); then later."""
+        busy = any(d._timer is not None or (d._task is not None and not d._task.done()) for d in self)
+        if busy:
+            self._idle = asyncio.get_running_loop().call_later(IDLE_COLLECT_SECONDS, self._collect_when_idle)
+        else:
+            self._idle = None
+            self.collect()
 
     @staticmethod
     def collect() -> None:

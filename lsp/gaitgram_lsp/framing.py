@@ -49,6 +49,7 @@ _CUT_HEADER = re.compile(
     rb"[}\]][ \t\r\n]*(?:" + b"|".join(b"content-length"[:n] for n in range(14, 0, -1)) + rb")\Z",
     re.IGNORECASE,
 )
+_BLANKS = re.compile(rb"[ \t\r\n]*")
 _HEADER_END = re.compile(rb"\r?\n\r?\n")
 _LINE_BREAK = re.compile(rb"\r?\n")
 _DIGITS = re.compile(rb"[0-9]+")
@@ -102,8 +103,7 @@ class Framing:
     async def next(self) -> Body | Malformed | None:
         buffer = self._buffer
         while True:  # blank lines between messages are no message
-            start = len(buffer) - len(buffer.lstrip(_BLANK))
-            del buffer[:start]
+            del buffer[: _BLANKS.match(buffer).end()]  # type: ignore[union-attr]  # the empty run matches
             if buffer or not await self._fill():
                 break
         if not buffer:
