@@ -12,7 +12,7 @@ import typer
 from gaitgram.cli.common import check_output, err, fail, interrupted, mend_outputs, require_extra
 from gaitgram.study.gallery import GalleryError
 from gaitgram.study.records import ReportError
-from gaitgram.study.report import ReportInterrupted, make_report, watch_report
+from gaitgram.study.report import HTML, ReportInterrupted, make_report, watch_report
 
 _Directories = Annotated[
     list[Path],
@@ -102,14 +102,14 @@ def command(
     Per arm: mean and SD of the final best and average fitness (the paper's Tables 4 and 5),
     median with a bootstrap interval, viable-only average, unviable share and walk rate; every
     difference tested (Kruskal-Wallis, pairwise Mann-Whitney U with Holm, Vargha-Delaney A12);
-    convergence figures with confidence bands. Writes summary.md (also printed), summary.csv,
-    summary.json, tables.tex, convergence.png and convergence.svg; front-ARM.png (Pareto fronts,
-    objectives pairwise) for nsga2 arms and archive-ARM.png (the repertoire as heat maps) for
-    map-elites arms; for mujoco-horse arms, the realism and robustness sections, measured by
-    --assess (docs/fitness.md); with --gaits or --cell, GIFs of chosen gaits (docs/strategies.md);
-    and report.html, all of it in one page that opens from a file (docs/study.md). With --watch,
-    a study still running is reported over its finished runs, again as more finish; with --runs N,
-    over each arm's first N runs.
+    convergence figures with confidence bands. Prints a summary, a screen at most, and writes
+    every table in summary.md, summary.csv, summary.json, tables.tex, convergence.png and
+    convergence.svg; front-ARM.png (Pareto fronts, objectives pairwise) for nsga2 arms and
+    archive-ARM.png (the repertoire as heat maps) for map-elites arms; for mujoco-horse arms, the
+    realism and robustness sections, measured by --assess (docs/fitness.md); with --gaits or
+    --cell, GIFs of chosen gaits (docs/strategies.md); and report.html, all of it in one page that
+    opens from a file (docs/study.md). With --watch, a study still running is reported over its
+    finished runs, again as more finish; with --runs N, over each arm's first N runs.
     """
     if interval is not None and not watch:
         raise fail("--interval is how often --watch looks for finished runs; add --watch, or drop --interval")
@@ -141,8 +141,8 @@ def command(
         raise interrupted(str(stop)) from None
     except OSError as error:
         raise fail(f"cannot write the report in {out}: {error.strerror or error}") from None
-    typer.echo((out / "summary.md").read_text(encoding="utf-8"), nl=False)
-    err.print("wrote " + ", ".join(str(p) for p in written))
+    typer.echo(written.brief, nl=False)
+    err.print(f"wrote {len(written.files)} files in {out}; all of it in one page: {out / HTML}")
 
 
 def _cell(text: str) -> tuple[int, ...]:

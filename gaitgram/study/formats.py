@@ -17,12 +17,14 @@ from typing import Any
 from gaitgram import jsonio
 from gaitgram.study import escape
 from gaitgram.study.model import (
+    LEADING,
     Column,
     Kind,
     Section,
     StudyReport,
     Table,
     cell_text,
+    p_phrase,
     p_text,
     share_text,
     value_text,
@@ -220,11 +222,15 @@ def latex(report: StudyReport) -> str:
             "Arm & Runs & Avg.\\ best & SD & Avg.\\ avg. & SD & Walk rate [95\\,\\% CI] & Walk held",
             summary,
         ),
-        *_tabular(
-            "Pairwise two-sided Mann-Whitney U on the final best, Holm-adjusted; Vargha-Delaney A12.",
-            "lrrl",
-            "Pair & $p$ (Holm) & $A_{12}$ & Effect",
-            pairs,
+        *(
+            _tabular(
+                "Pairwise two-sided Mann-Whitney U on the final best, Holm-adjusted; Vargha-Delaney A12.",
+                "lrrl",
+                "Pair & $p$ (Holm) & $A_{12}$ & Effect",
+                pairs,
+            )
+            if pairs  # one arm: no pair, no table
+            else []
         ),
     ]
     for section in report.sections:
@@ -243,6 +249,78 @@ def latex(report: StudyReport) -> str:
                 ],
             )
     return "\n".join(lines)
+
+
+# ---- the terminal ----------------------------------------------------------------------------------
+
+#: The summary's columns the terminal shows (by key), of those :func:`summary_table` has.
+_BRIEF_COLUMNS = ("arm", "runs", "mean_best", "median_best", "unviable_share", "walk_rate")
+#: At most this many arms' rows and this many pairs that differ: a study of many arms still fits
+#: a screen (every row is in summary.md).
+BRIEF_ARMS = 10
+BRIEF_PAIRS = 5
+#: The Holm-adjusted p below which the terminal lists a pair as differing.
+BRIEF_ALPHA = 0.05
+EVERYTHING = (
+    "Every table is in summary.md (and .csv, .tex, .json); all of it, with the figures, in report.html."
+)
+
+
+def brief(report: StudyReport) -> str:
+    """What ``gaitgram report`` prints: at most a screen (40 lines, however many arms and sections)
+    of what the report found, every table being in the files: how to read it first (a study still
+    running, arms scored differently), the summary's main columns, the pairs whose final bests
+    differ (or the sentence saying one arm has no tests) and what the further sections are."""
+    lines = [f"# {escape.markdown(report.title)}", ""] if report.title else []
+    document = report.document
+    lines += [line for s in document if s.name in LEADING for line in (_said(s), "")]
+    summary = next(s for s in document if s.name == "summary")
+    (table,) = summary.tables
+    keep = [k for k, c in enumerate(table.columns) if c.key in _BRIEF_COLUMNS]
+    if all(s.walk_rate is None for s in report.summaries):
+        keep = [k for k in keep if table.columns[k].key != "walk_rate"]
+    shown = Table(
+        "summary",
+        tuple(table.columns[k] for k in keep),
+        tuple(tuple(row[k] for k in keep) for row in table.rows[:BRIEF_ARMS]),
+    )
+    lines += ["Final generation, over runs (fitness is minimised):", "", *_markdown_table(shown)]
+    if len(table.rows) > BRIEF_ARMS:
+        lines += ["", f"... and {len(table.rows) - BRIEF_ARMS} more arms (summary.md)"]
+    lines += ["", *_brief_tests(report, summary)]
+    further = [s for s in document if s.title and s.name not in (*LEADING, "summary")]
+    if further:
+        titles = "; ".join(escape.markdown(s.title) for s in further)
+        lines += ["", f"Further sections: {titles}."]
+        lines += [_said(s) for s in further if not (s.tables or s.tests or s.figures or s.notes)]
+    return "\n".join([*lines, "", EVERYTHING]) + "\n"
+
+
+def _brief_tests(report: StudyReport, summary: Section) -> list[str]:
+    """The final best's rank tests in a few lines: the pairs that differ, or the one-arm sentence."""
+    if not summary.tests:
+        return [summary.footnote]
+    best = report.best
+    differ = [p for p in best.pairs if p.p_holm < BRIEF_ALPHA]
+    head = (
+        f"**final best**: Kruskal-Wallis H = {value_text(best.kruskal_h)}, p {p_phrase(best.kruskal_p)}; "
+        f"{len(differ)} of {len(best.pairs)} pairs differ (Mann-Whitney U, Holm p < {BRIEF_ALPHA:g})"
+    )
+    lines = [head + (":" if differ else ".")]
+    lines += [
+        f"- {escape.markdown(p.first)} vs {escape.markdown(p.second)}: p (Holm) {p_text(p.p_holm)}, "
+        f"A12 {p.a12:.3f} ({p.magnitude})"
+        for p in differ[:BRIEF_PAIRS]
+    ]
+    if len(differ) > BRIEF_PAIRS:
+        lines.append(f"- ... and {len(differ) - BRIEF_PAIRS} more (summary.md)")
+    return lines
+
+
+def _said(section: Section) -> str:
+    """A section that is a sentence or two (no table), as one line: its title, scope and text."""
+    scope = f" ({escape.markdown(section.scope)})" if section.scope else ""
+    return f"**{escape.markdown(section.title)}**{scope}: {section.text}"
 
 
 # ---- JSON ----------------------------------------------------------------------------------------

@@ -540,6 +540,29 @@ def arm_curves_figure(
     return Figure(figure_name("curves", assessed.arm, ""), caption, data, ("png",))
 
 
+def measured_nothing(assessed: Sequence[ArmAssessed]) -> bool:
+    """No gait of any arm measured yet (none kept, not even a stale one): the realism and
+    robustness sections would each say only that."""
+    return bool(assessed) and not any(a.found or a.stale or a.walk for a in assessed)
+
+
+def unmeasured_section(assessed: Sequence[ArmAssessed]) -> Section:
+    """One sentence in place of the realism, robustness and graded robustness sections of arms
+    none of whose gaits was measured yet."""
+    declared = _declared(assessed)
+    realism = f"{declared.title.lower()}, " if declared is not None else ""
+    return Section(
+        "unmeasured",
+        "Not measured yet",
+        "each run's best gait",
+        text=(
+            f"The sections on {realism}robustness and graded robustness need simulation: "
+            "`gaitgram report --assess` measures each run's best gait once (run-NNN/assessment.json), "
+            "and every report after reads them."
+        ),
+    )
+
+
 def robustness_section(arms: Sequence[ArmRecord], assessed: Sequence[ArmAssessed]) -> Section | None:
     """The robustness section of the arms whose gaits were measured; None if none."""
     if not assessed:

@@ -27,7 +27,7 @@ import json
 import math
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from enum import Enum
 from pathlib import Path
 from typing import Any
@@ -314,6 +314,10 @@ A12_NOTE = (
     "A12 is the probability that a run of the first arm ends with a lower (better) value than a "
     "run of the second (0.5: no difference; 0.56, 0.64 and 0.71 mark small, medium and large "
     "effects). p-values are two-sided Mann-Whitney U, Holm-adjusted over the pairs."
+)
+ONE_ARM_NOTE = (
+    "One arm: the rank tests (Kruskal-Wallis, Mann-Whitney U, A12), which compare arms, are left "
+    "out; report two or more run directories, or a study's arms, together to compare them."
 )
 
 
@@ -610,13 +614,14 @@ def spread_section(arms: Sequence[ArmRecord]) -> Section | None:
         tuple((f"{p.first} vs {p.second}", p.statistic, p.p_value, p.p_holm) for p in tested.pairs),
     )
     overall = (
-        f"Brown-Forsythe over all arms: W = {value_text(tested.statistic, 3)}, p {_p_phrase(tested.p_value)}."
+        f"Brown-Forsythe over all arms: W = {value_text(tested.statistic, 3)}, p {p_phrase(tested.p_value)}."
     )
     title, scope = "Spread of the final bests", "final generation"
     return Section("spread", title, scope, SPREAD_TEXT, (spreads, pairs), notes=(overall,))
 
 
-def _p_phrase(value: float) -> str:
+def p_phrase(value: float) -> str:
+    """A p-value after "p": "= 0.0123", or "< 0.0001"."""
     text = p_text(value)
     return text if text.startswith("<") else f"= {text}"
 
@@ -655,13 +660,16 @@ class StudyReport:
 
     @property
     def summary(self) -> Section:
-        """The summary: the tables of the paper and every difference tested."""
+        """The summary: the tables of the paper and every difference tested (of one arm, none:
+        one sentence says so)."""
+        tests = (RankTests("final best", self.best), RankTests("final average", self.average))
+        compared = len(self.arms) > 1
         return Section(
             "summary",
             text=SUMMARY_TEXT,
             tables=(summary_table(self.summaries),),
-            tests=(RankTests("final best", self.best), RankTests("final average", self.average)),
-            footnote=A12_NOTE,
+            tests=tests if compared else (),
+            footnote=A12_NOTE if compared else ONE_ARM_NOTE,
             figures=(Figure("convergence", CONVERGENCE_CAPTION, convergence(self.arms), ("png", "svg")),),
         )
 
@@ -805,5 +813,19 @@ def build_report(
         compare({a.name: a.final_best for a in arms}),
         compare({a.name: a.final_average for a in arms}),
         title,
-        tuple(sections),
+        tuple(without_untested(s, said=len(arms) < 2) for s in sections),
     )
+
+
+def without_untested(section: Section, *, said: bool) -> Section:
+    """``section`` without its rank tests of fewer than two arms (no pair to test: a one-arm
+    report, or one arm measured of several), which would print as empty tables of "n/a"; unless
+    that is ``said`` already (a one-arm report's summary says it once), a note says why."""
+    tested = tuple(t for t in section.tests if t.comparison.pairs)
+    if len(tested) == len(section.tests):
+        return section
+    note = () if said or tested else (UNTESTED_NOTE,)
+    return replace(section, tests=tested, notes=(*section.notes, *note))
+
+
+UNTESTED_NOTE = "No rank tests here: they compare arms, and fewer than two have values to compare."

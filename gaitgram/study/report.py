@@ -58,11 +58,18 @@ from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts
 from gaitgram.study import escape
 from gaitgram.study.assess import assess_arms, assesses, assessing
 from gaitgram.study.figures import draw, rendered
-from gaitgram.study.formats import text_files
+from gaitgram.study.formats import brief, text_files
 from gaitgram.study.gallery import check_cells, draws, gaits_section, render_gaits, spread_cells
 from gaitgram.study.graded import graded_section
 from gaitgram.study.html import html
-from gaitgram.study.kept_gaits import arm_curves_figure, load_assessed, realism_section, robustness_section
+from gaitgram.study.kept_gaits import (
+    arm_curves_figure,
+    load_assessed,
+    measured_nothing,
+    realism_section,
+    robustness_section,
+    unmeasured_section,
+)
 from gaitgram.study.manifest import STUDY_MANIFEST, study_holds
 from gaitgram.study.model import (
     Gait,
@@ -80,6 +87,15 @@ from gaitgram.study.records import ArmRecord, ReportError, check_comparable, loa
 from gaitgram.study.usage import usage_section
 
 HTML = "report.html"
+
+
+@dataclass(frozen=True)
+class Written:
+    """A report as written: every file, in order, and what a terminal shows of it
+    (:func:`gaitgram.study.formats.brief`: a screen at most; the files hold every table)."""
+
+    files: list[Path]
+    brief: str
 
 
 class ReportInterrupted(KeyboardInterrupt):
@@ -111,15 +127,22 @@ def study_report(
     }
     assessed = [found for found in map(load_assessed, arms) if found is not None]
     gallery = gaits_section(arms, fronts, repertoires, cells, gaits=gaits)
+    measured = (
+        (unmeasured_section(assessed),)
+        if measured_nothing(assessed)
+        else (
+            realism_section(arms, assessed),
+            robustness_section(arms, assessed),
+            graded_section(arms, assessed),
+        )
+    )
     sections = (
         start_section(arms),
         first_walk_section(arms),
         walk_rates_section(arms),
         spread_section(arms),
         fronts_section(arms, fronts, repertoires, cells),
-        realism_section(arms, assessed),
-        robustness_section(arms, assessed),
-        graded_section(arms, assessed),
+        *measured,
         gallery and _beside_the_real_walks(gallery, arms, assessed),
         usage_section(arms),
     )
@@ -323,9 +346,9 @@ def make_report(
     runs: int | None = None,
     mixed_scoring: bool = False,
     progress: Callable[[str], None] | None = None,
-) -> list[Path]:
+) -> Written:
     """``gaitgram report``: the report of study or run directories whose runs have all finished
-    (each arm's first ``runs``, if given), written to ``out``; the files written. With ``assess``,
+    (each arm's first ``runs``, if given), written to ``out``; what was written. With ``assess``,
     each run's best gait is first measured where its kept assessment is missing or stale
     (simulation; :mod:`gaitgram.study.assess`). Ctrl-C raises :class:`ReportInterrupted`."""
     check_out(out, directories)
@@ -338,7 +361,7 @@ def make_report(
         report = study_report(arms, title=title, gaits=gaits, chosen=chosen, mixed_scoring=mixed_scoring)
         _say_unanimated(report, gaits, progress)
         report = _with_window(report, arms)
-        return write_report(report, out, force=force, progress=progress)
+        return Written(write_report(report, out, force=force, progress=progress), brief(report))
     except ReportInterrupted:
         raise
     except KeyboardInterrupt:
@@ -410,14 +433,14 @@ def watch_report(
     mixed_scoring: bool = False,
     progress: Callable[[str], None] | None = None,
     sleep: Callable[[float], None] = time.sleep,
-) -> list[Path]:
+) -> Written:
     """``gaitgram report --watch``: the report of the runs finished so far, made again each time
     another finishes (looked for every ``interval`` seconds), its page reloading itself, until every
-    run has finished: then the report is the one :func:`make_report` writes. The files written
+    run has finished: then the report is the one :func:`make_report` writes. What was written
     last."""
     check_out(out, directories)
     seen: tuple[tuple[str, tuple[int, ...]], ...] | None = None
-    written: list[Path] = []
+    written = Written([], "")
     shown: _Shown | None = None  # the page out holds, while it reloads itself
     try:
         while True:
@@ -438,14 +461,18 @@ def watch_report(
                 ongoing = None if done else progress_section(arms, planned, interval)
                 drawn = None if ongoing is None else _Shown(arms, planned, report, {})
                 try:
-                    written = _write(
-                        report if ongoing is None else replace(report, sections=(ongoing, *report.sections)),
+                    shown_now = (
+                        report if ongoing is None else replace(report, sections=(ongoing, *report.sections))
+                    )
+                    files = _write(
+                        shown_now,
                         out,
                         force=force or seen is not None,
                         refresh=None if ongoing is None else interval,
                         progress=progress,
                         images={} if drawn is None else drawn.images,
                     )
+                    written = Written(files, brief(shown_now))
                 except ReportInterrupted as stop:
                     shown = drawn if stop.written else shown
                     raise

@@ -32,9 +32,14 @@ def test_each_text_format_is_the_published_layout(report: tuple[Path, str], name
     assert (out / name).read_bytes() == (EXPECTED / name).read_bytes()
 
 
-def test_the_printed_summary_is_summary_md(report: tuple[Path, str]) -> None:
+def test_the_printed_summary_is_a_screen_of_what_summary_md_holds(report: tuple[Path, str]) -> None:
+    """What the terminal shows of the report (tests/study/test_report_brief.py): its lines of the
+    summary's table are summary.md's, cut to the main columns."""
     out, printed = report
-    assert printed == (out / "summary.md").read_text()
+    summary = (out / "summary.md").read_text()
+    assert len(printed.splitlines()) <= 40 < len(summary.splitlines())
+    assert "| gamma | 3 | 0.3125 | 0.3125 [0.25, 0.375] | 8% | 67% [21%, 94%] |" in printed
+    assert "| gamma | 3 | 0.3125 | 0.0625 | 1.25 | 0.25 | 0.3125 [0.25, 0.375] |" in summary
 
 
 def test_figures_are_drawn_for_the_arms_that_keep_fronts_and_repertoires(report: tuple[Path, str]) -> None:

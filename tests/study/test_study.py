@@ -134,7 +134,8 @@ def test_the_report_statistics_are_scipys(tmp_path: Path) -> None:
     assert pair.a12 == pytest.approx(np.mean([(x < y) + 0.5 * (x == y) for x in plain for y in mutant]))
     reported = gaitgram("report", str(tmp_path / "s"), "-o", str(tmp_path / "report"))
     assert reported.returncode == 0, reported.stderr
-    assert "plain vs mutant" in reported.stdout
+    assert "**final best**: Kruskal-Wallis H = " in reported.stdout
+    assert "| plain vs mutant |" in (tmp_path / "report" / "summary.md").read_text()
     summary = json.loads((tmp_path / "report" / "summary.json").read_text())
     assert [a["final_best"] for a in summary["arms"]] == [list(plain), list(mutant)]
     assert summary["pairs"][0]["best"]["p_holm"] == pytest.approx(pair.p_holm)
