@@ -5,17 +5,17 @@ A :class:`Pipeline` is built from a checked grammar and a resolved
 
     genomes --map--> phenotypes --motion--> joint curves --evaluate--> evaluations
 
-with the run's codon mode, wraps and depth limit, its sample count, the joint
-freedom schedule of the grammar's ``@joint free=`` annotations, the backend and
-settings of the config and the weights of its schedule. ``evolve``,
+with the run's representation (GE's codons by default, :mod:`gaitgram.ge.registry`) and its
+settings, its sample count, the joint freedom schedule of the grammar's ``@joint free=``
+annotations, the backend and settings of the config and the weights of its schedule. ``evolve``,
 ``evaluate``, ``render`` and studies all build one, so they cannot disagree
 about any of these; a run directory records everything needed to build the
 same pipeline again (:mod:`gaitgram.evolution.rundir`).
 
 Building refuses, with a message that names the key and the fix, anything that
 would make the numbers mean something other than what they say: a grammar with
-errors, backend settings the backend does not know, a weight that no component
-has, depths the grammar cannot fit in, codons too small to reach every choice.
+errors, backend or representation settings their plug-in does not know, a weight that no
+component has, depths the grammar cannot fit in, codons too small to reach every choice.
 The pipeline knows no search strategy and no run: a run's strategy is checked
 against it one floor up (:func:`gaitgram.strategies.registry.run_pipeline`).
 Evaluating checks what comes back: a gait is only ``ok`` if its fitness and
@@ -29,6 +29,8 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
+
+import numpy as np
 
 from gaitgram.analysis import CheckResult
 from gaitgram.analysis.facts import GrammarFacts
@@ -49,14 +51,22 @@ from gaitgram.backends.registry import (
     get_backend,
 )
 from gaitgram.evolution.config import RunConfig
-from gaitgram.ge.mapper import Mapped, Mapper, MapperError, compile_mapper
+from gaitgram.ge.initialisation import InitialisationError
+from gaitgram.ge.mapper import MapperError
+from gaitgram.ge.registry import (
+    Compiled,
+    Genome,
+    Mapped,
+    RepresentationLoadError,
+    RepresentationNotFound,
+    RepresentationSpec,
+    get_representation,
+)
 from gaitgram.language.model import Grammar
 from gaitgram.motion.gait import MotionBatch, Sensors, motion_batch
 
 #: The backend of a grammar that names none and a config that names none.
 DEFAULT_BACKEND = "mujoco-horse"
-
-Genome = tuple[int, ...]
 
 
 def sensors_of(spec: BackendSpec) -> Sensors | None:
@@ -85,10 +95,10 @@ def settings_error(table: str, error: SettingsError) -> PipelineError:
 
 @dataclass(frozen=True)
 class Individual:
-    """A genome with what the pipeline made of it."""
+    """A genome with what the pipeline made of it (``used``: how much of it the mapping read)."""
 
     genome: Genome
-    used_codons: int
+    used: int
     phenotype: str | None
     joints: Mapping[str, str]
     evaluation: Evaluation
@@ -106,7 +116,8 @@ class Pipeline:
     #: Resolved: ``backend`` is set and ``backend_settings`` are the backend's normalised settings.
     config: RunConfig
     spec: BackendSpec
-    mapper: Mapper
+    #: The run's representation, compiled for the grammar: maps, initialises and varies genomes.
+    representation: Compiled
     #: The curves of a motion batch, in the backend's order (its catalogue's, else the grammar's).
     joints: tuple[str, ...]
 
@@ -130,25 +141,14 @@ class Pipeline:
         _check_joints(grammar, spec)
         _check_frequency(grammar, spec)
         _check_sensors(checked, spec, key="backend" if config.backend else None)
-        _check_depths(checked.facts, config)
-        try:
-            mapper = compile_mapper(
-                grammar, codons=config.codons, max_wraps=config.max_wraps, max_depth=config.max_depth
-            )
-        except MapperError as error:
-            raise PipelineError(str(error)) from None
-        widest = max(mapper.n_choices, default=0)
-        if config.codon_size < widest:
-            raise PipelineError(
-                f"codon_size: {config.codon_size} is smaller than the {widest} choices of the grammar's "
-                f"widest rule, so some of its choices could never be picked; make codon_size at least "
-                f"{widest}",
-                key="codon_size",
-            )
+        representation, settings = compile_representation(
+            checked, config.representation, config.representation_settings
+        )
+        config = replace(config, representation_settings=settings)
         joints = (
             spec.catalogue.names if spec.catalogue is not None else tuple(j.joint for j in grammar.joints)
         )
-        return cls(checked, config, spec, mapper, joints)
+        return cls(checked, config, spec, representation, joints)
 
     @property
     def grammar(self) -> Grammar:
@@ -180,8 +180,8 @@ class Pipeline:
             generation
         ) != self.weights_at(generation - 1)
 
-    def map(self, genomes: Sequence[Sequence[int]]) -> list[Mapped]:
-        return self.mapper.map_many(genomes)
+    def map(self, genomes: Sequence[Genome]) -> Sequence[Mapped]:
+        return self.representation.map_many(genomes)
 
     def motion(self, mapped: Sequence[Mapped], generation: int) -> MotionBatch:
         batch = motion_batch(
@@ -210,15 +210,13 @@ class Pipeline:
             return None
         return decl.limits or self.spec.cycle_frequencies
 
-    def evaluate(
-        self, genomes: Sequence[Sequence[int]], evaluator: Evaluator, generation: int
-    ) -> list[Individual]:
+    def evaluate(self, genomes: Sequence[Genome], evaluator: Evaluator, generation: int) -> list[Individual]:
         """Map, build motion, and score ``genomes`` as they would be scored in ``generation``."""
         return self._scored(genomes, evaluator.evaluate, generation)
 
     def verify(
         self,
-        genomes: Sequence[Sequence[int]],
+        genomes: Sequence[Genome],
         evaluator: Evaluator,
         generation: int,
         *,
@@ -233,7 +231,7 @@ class Pipeline:
 
     def _scored(
         self,
-        genomes: Sequence[Sequence[int]],
+        genomes: Sequence[Genome],
         score: Any,
         generation: int,
         played: Callable[[MotionBatch], MotionBatch] | None = None,
@@ -251,7 +249,7 @@ class Pipeline:
             )
         unviable = self.unviable_fitness(generation)
         return [
-            Individual(tuple(g), m.used_codons, m.phenotype, m.joints, honest(e, unviable))
+            Individual(tuple(g), m.used, m.phenotype, m.joints, honest(e, unviable))
             for g, m, e in zip(genomes, mapped, evaluations, strict=True)
         ]
 
@@ -423,26 +421,34 @@ def _check_frequency(grammar: Grammar, spec: BackendSpec) -> None:
         )
 
 
-def _check_depths(facts: GrammarFacts, config: RunConfig) -> None:
-    start = facts.cfg.start
-    shortest = facts.min_depth[start] if start is not None else None
-    if shortest is None:  # the linter has already refused it (GG205); defensive
-        raise PipelineError("the start rule cannot derive anything")
-    if config.init_max_depth < shortest:
-        raise PipelineError(
-            f"init_max_depth: {config.init_max_depth} is below the {shortest} levels of the grammar's "
-            f"shortest derivation, so no initial tree fits; make it at least {shortest}",
-            key="init_max_depth",
-        )
-    if config.max_depth is not None and config.max_depth < shortest:
-        raise PipelineError(
-            f"max_depth: {config.max_depth} is below the {shortest} levels of the grammar's shortest "
-            f"derivation, so every genome would be invalid; make it at least {shortest}",
-            key="max_depth",
-        )
-    if config.max_depth is not None and config.max_depth < config.init_max_depth:
-        raise PipelineError(
-            f"max_depth: {config.max_depth} is below init_max_depth {config.init_max_depth}, so some "
-            "initial trees would be invalid at once; raise max_depth or lower init_max_depth",
-            key="max_depth",
-        )
+def representation_spec(name: str) -> RepresentationSpec:
+    """The installed representation ``name``, or :class:`PipelineError` naming the ones there are."""
+    try:
+        return get_representation(name)
+    except RepresentationNotFound as error:
+        raise PipelineError(f"representation: {error}", key="representation") from None
+    except RepresentationLoadError as error:
+        raise PipelineError(str(error), key="representation") from None
+
+
+def compile_representation(
+    checked: CheckResult, name: str, settings: Mapping[str, Any]
+) -> tuple[Compiled, dict[str, Any]]:
+    """The representation ``name`` compiled for a checked grammar, and its settings normalised
+    (defaults spelt out); :class:`PipelineError` names the setting that cannot be, and why. A first
+    genome is drawn, so that depths no initial tree can keep to are refused here, not mid-run."""
+    spec = representation_spec(name)
+    try:
+        normalised = spec.checked_settings(settings)
+        compiled = spec.compile(checked.grammar, checked.facts, normalised)
+        if spec.check_run is not None:
+            spec.check_run(compiled)
+    except SettingsError as error:
+        raise settings_error("representation_settings", error) from None
+    except MapperError as error:
+        raise PipelineError(str(error)) from None
+    try:
+        compiled.initialise(np.random.default_rng(0), 1)
+    except InitialisationError as error:
+        raise PipelineError(f"representation {name}: {error}", key="representation_settings") from None
+    return compiled, normalised

@@ -42,9 +42,7 @@ class Context:
     @classmethod
     def of(cls, grammar: Grammar, mapper: Mapper, max_depth: int) -> Context:
         """The context of a checked grammar, with its backend's sensors."""
-        return cls(
-            grammar, mapper, max_depth, sensors=sensors_of(get_backend(grammar.backend or DEFAULT_BACKEND))
-        )
+        return cls(grammar, mapper, max_depth, sensors=backend_sensors(grammar))
 
     def motion(self, text: str) -> Motion | object:
         """``text`` compiled, reading the backend's sensors."""
@@ -52,11 +50,25 @@ class Context:
 
     def curve(self, motion: Motion) -> tuple[np.ndarray | None, str | None]:
         """Its values over one cycle (a closed loop's nominal curve), or why it has none."""
-        if motion.sensors and self.sensors is not None:
-            values, _, problem, detail = sensed_curve(motion.text, self.samples, self.sensors)
-            return (None, detail) if problem is not None else (values, None)
-        curve = motion.evaluate(phase_grid(self.samples))
-        return (curve.values, None) if curve.ok else (None, str(curve.error))
+        return nominal_curve(motion, self.samples, self.sensors)
+
+
+def backend_sensors(grammar: Grammar) -> Sensors | None:
+    """The sensors of the grammar's backend, which its curves may read (None: it senses nothing)."""
+    return sensors_of(get_backend(grammar.backend or DEFAULT_BACKEND))
+
+
+def nominal_curve(
+    motion: Motion, samples: int, sensors: Sensors | None
+) -> tuple[np.ndarray | None, str | None]:
+    """A compiled curve's values at ``samples`` phases of one cycle, or why it has none: a closed
+    loop's nominal curve (every sensor at rest, as runs and plots sample it), whose values under
+    other readings depend on the body."""
+    if motion.sensors and sensors is not None:
+        values, _, problem, detail = sensed_curve(motion.text, samples, sensors)
+        return (None, detail) if problem is not None else (values, None)
+    curve = motion.evaluate(phase_grid(samples))
+    return (curve.values, None) if curve.ok else (None, str(curve.error))
 
 
 Property = Callable[[Derivation, Context], None]

@@ -30,7 +30,8 @@ from gaitgram.analysis import GrammarFacts, analyse
 from gaitgram.ge import CodonMode, Derivation, compile_mapper
 from gaitgram.ge.mapper import Mapper
 from gaitgram.language.model import FREQUENCY, Grammar
-from gaitgram.motion.gait import sampled_curve
+from gaitgram.motion.expression import Motion, compile_motion
+from gaitgram.properties import backend_sensors, nominal_curve
 
 __all__ = ["derivations", "genomes", "motions", "phenotypes"]
 
@@ -112,16 +113,21 @@ def motions(
 ) -> st.SearchStrategy[Mapping[str, np.ndarray]]:
     """Per-joint curves (degrees over one cycle, ``samples`` points) of valid derivations.
 
-    A joint whose phenotype does not compile, or is not finite, maps to an array of NaN.
+    A curve that reads the backend's sensors (a closed loop) is its nominal curve, every sensor at
+    rest, as runs and ``gaitgram test`` sample it. A joint whose phenotype does not compile, or is
+    not finite, maps to an array of NaN.
     """
+    sensors = backend_sensors(grammar)
+    names = sensors.names if sensors is not None else frozenset()
 
     def curves(derivation: Derivation) -> Mapping[str, np.ndarray]:
         result = {}
         for joint, text in derivation.joints.items():
             if joint == FREQUENCY:  # a number, not a curve
                 continue
-            values, problem, _ = sampled_curve(text, samples)
-            result[joint] = np.full(samples, np.nan) if problem is not None else values
+            motion = compile_motion(text, names)
+            values = nominal_curve(motion, samples, sensors)[0] if isinstance(motion, Motion) else None
+            result[joint] = np.full(samples, np.nan) if values is None else values
         return result
 
     return derivations(grammar, **options).map(curves)  # type: ignore[arg-type]

@@ -4,10 +4,12 @@ curve-match problem the evolution, strategy and study tests run."""
 from __future__ import annotations
 
 import os
+import resource
 import shutil
 import signal
 import tempfile
 import threading
+import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -124,6 +126,59 @@ def pytest_unconfigure(config: pytest.Config) -> None:
         else:
             os.environ[name] = value
     shutil.rmtree(home, ignore_errors=True)
+
+
+#: What a test not marked slow may take, in seconds (its setup and call): on the CI machine, idle,
+#: and what it takes here measured as that machine would see it (below). ``-o max_test_seconds=0``
+#: turns the check off.
+MAX_TEST_SECONDS = 20.0
+_STARTED = pytest.StashKey[tuple[float, float]]()
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addini(
+        "max_test_seconds",
+        "a test not marked slow that takes longer (setup and call) fails; 0: no limit",
+        default=str(MAX_TEST_SECONDS),
+    )
+
+
+def _clocks() -> tuple[float, float]:
+    """Wall seconds, and the processor seconds of this process and of the subprocesses it has
+    waited for."""
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return time.perf_counter(), time.process_time() + children.ru_utime + children.ru_stime
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_setup(item: pytest.Item) -> Iterator[None]:
+    item.stash[_STARTED] = _clocks()
+    yield
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[None]) -> Iterator[None]:
+    """A test not marked slow that passed but took over ``max_test_seconds`` fails, saying so: the
+    default run stays quick, and a slow test is marked (``.ci/run`` still runs it). What it took
+    is the lesser of its wall time and its processor time (its own and that of the subprocesses
+    it waited for): on an idle machine, the wall time of a test that computes; on a machine
+    loaded by others, about what it would take on an idle one. A test that mostly waits (on a
+    timer, or on a process it does not wait for) is charged only the processor time it spends.
+    """
+    outcome = yield
+    report = outcome.get_result()
+    limit = float(item.config.getini("max_test_seconds"))
+    if call.when != "call" or not report.passed or not limit or item.get_closest_marker("slow"):
+        return
+    wall, processor = (now - then for now, then in zip(_clocks(), item.stash[_STARTED], strict=True))
+    took = min(wall, processor)
+    if took > limit:
+        report.outcome = "failed"
+        report.longrepr = (
+            f"{item.nodeid} took {took:.1f} s (wall {wall:.1f} s, processors {processor:.1f} s), over the "
+            f"{limit:g} s a test not marked slow may take: make it faster, or mark it "
+            "@pytest.mark.slow (.ci/run still runs it)"
+        )
 
 
 def vector_grammars() -> list[Path]:

@@ -116,6 +116,19 @@ class Verdict:
     def failed_terms(self, evaluation: Evaluation) -> tuple[str, ...]:
         return tuple(term for term in self.terms if evaluation.components.get(term, 0.0) < 0.5)
 
+    def sentence(self, evaluation: Evaluation) -> str:
+        """The verdict for people, in the backend's words: "a walk by criterion v2", or "not a walk
+        by criterion v2: fails walk_footfalls, walk_sustained" (or why it was not judged), so that
+        a command can say what its gait is without knowing the backend."""
+        by = f" by criterion {self.version}" if self.version else ""
+        article = "an" if self.label[:1].lower() in "aeiou" else "a"
+        if self.holds(evaluation):
+            return f"{article} {self.label}{by}"
+        if not evaluation.status.viable:
+            return f"not {article} {self.label}{by}: the gait is not viable ({evaluation.status})"
+        failed = self.failed_terms(evaluation)
+        return f"not {article} {self.label}{by}" + (f": fails {', '.join(failed)}" if failed else "")
+
 
 @dataclass(frozen=True)
 class ReferenceMeasure:

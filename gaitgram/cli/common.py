@@ -4,7 +4,6 @@ read a genome, and check and write their outputs."""
 from __future__ import annotations
 
 import os
-import re
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -15,8 +14,20 @@ import typer
 from gaitgram import fileio
 from gaitgram.analysis import CheckResult, check
 from gaitgram.analysis.report import human, source_error
+from gaitgram.backends.api import SettingsError
+from gaitgram.cli.options import parse_settings
 from gaitgram.cli.terminal import err
 from gaitgram.extras import MissingExtra, require
+from gaitgram.ge.mapper import MapperError
+from gaitgram.ge.registry import (
+    DEFAULT_REPRESENTATION,
+    Compiled,
+    Genome,
+    GenomeError,
+    RepresentationLoadError,
+    RepresentationNotFound,
+    compile_representation,
+)
 from gaitgram.language import SourceError, parse
 from gaitgram.language.source import (
     MAX_SOURCE_BYTES,
@@ -147,34 +158,13 @@ def load_usable(path: Path, defines: dict[str, int]) -> CheckResult:
     return result
 
 
-_CODON = re.compile(r"[^\s,\[\]]+")
-
-
-def parse_genome(text: str, origin: str) -> tuple[int, ...]:
-    """Codons separated by commas and/or whitespace, optionally in [brackets] (JSON works)."""
-    codons = []
-    for match in _CODON.finditer(text):
-        token = match.group()
-        if not token.isdigit():
-            line = text.count("\n", 0, match.start()) + 1
-            column = match.start() - (text.rfind("\n", 0, match.start()) + 1) + 1
-            raise typer.BadParameter(
-                f"{origin}:{line}:{column}: {token!r} is not a codon; codons are non-negative integers "
-                "separated by commas or spaces, e.g. 12,7,301",
-                param_hint="genome",
-            )
-        codons.append(int(token))
-    if not codons:
-        raise typer.BadParameter(f"{origin}: the genome is empty", param_hint="genome")
-    return tuple(codons)
-
-
-def read_genome(inline: str | None, file: Path | None) -> tuple[int, ...]:
-    """From ``--genome 1,2,3`` or ``--genome-file PATH`` (``-`` for standard input), at most 8 MB."""
+def read_genome_text(inline: str | None, file: Path | None) -> tuple[str, str]:
+    """The text of ``--genome TEXT`` or ``--genome-file PATH`` (``-`` for standard input, at most
+    8 MB) and where it came from, for messages: a representation decodes it (:func:`decode_genome`)."""
     if (inline is None) == (file is None):
         raise typer.BadParameter("give exactly one of --genome and --genome-file", param_hint="genome")
     if inline is not None:
-        return parse_genome(inline, "--genome")
+        return inline, "--genome"
     assert file is not None
     name = "<stdin>" if str(file) == "-" else str(file)
     try:
@@ -189,4 +179,44 @@ def read_genome(inline: str | None, file: Path | None) -> tuple[int, ...]:
     except (OSError, UnicodeDecodeError) as error:
         reason = describe_os_error(error) if isinstance(error, OSError) else "not UTF-8 text"
         raise fail(f"cannot read {name}: {reason}") from None
-    return parse_genome(text, name)
+    return text, name
+
+
+def compiled_or_exit(checked: CheckResult, name: str, items: list[str] | None, **flags: object) -> Compiled:
+    """The representation ``name`` compiled for a checked grammar with the settings of
+    ``--setting KEY=JSON`` (``items``) and of the flags named after a setting (``max_wraps=2``:
+    ``--max-wraps``, None when not given, over them), or why not and exit 2."""
+    given = {key: value for key, value in flags.items() if value is not None}
+    try:
+        return compile_representation(
+            checked.grammar, checked.facts, name, {**parse_settings(items, "--setting"), **given}
+        )
+    except (RepresentationNotFound, RepresentationLoadError) as error:
+        raise fail(f"--representation: {error}") from None
+    except SettingsError as error:
+        where = "--" + error.key.replace("_", "-") if error.key in given else f"--setting {error.key}"
+        raise fail(f"{where}: {error.message}") from None
+    except MapperError as error:
+        raise fail(str(error)) from None
+
+
+def decode_genome(representation: Compiled, text: str, origin: str) -> Genome:
+    """A genome in the representation's syntax (GE: ``12,7,301``), or a usage error (exit 2) saying
+    where in ``origin`` it is wrong and what to write."""
+    try:
+        return representation.decode(text)
+    except GenomeError as error:
+        message = str(error)
+        joined = f"{origin}:{message}" if message[:1].isdigit() else f"{origin}: {message}"
+        raise typer.BadParameter(
+            f"{joined} (a genome of representation {representation.name})"
+            if representation.name != DEFAULT_REPRESENTATION
+            else joined,
+            param_hint="genome",
+        ) from None
+
+
+def read_genome(inline: str | None, file: Path | None, representation: Compiled) -> Genome:
+    """From ``--genome TEXT`` or ``--genome-file PATH``, in the representation's syntax."""
+    text, origin = read_genome_text(inline, file)
+    return decode_genome(representation, text, origin)

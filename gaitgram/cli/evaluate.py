@@ -137,7 +137,8 @@ def _record(chosen: SelectedGait, scored: Individual, horizon: int | None) -> di
 
 
 def _show(chosen: SelectedGait, scored: Individual) -> None:
-    """For people: the fitness and its components, the scored cycles, and why it is not a walk."""
+    """For people: the fitness and its components, the scored cycles, and the backend's verdict
+    (why it is not a walk, say)."""
     evaluation = scored.evaluation
     out = Console(highlight=False, markup=False)
     table = Table(title=f"{chosen.pipeline.backend}: {evaluation.status.value}", show_header=True)
@@ -150,9 +151,8 @@ def _show(chosen: SelectedGait, scored: Individual) -> None:
     if evaluation.cycles:
         out.print(_cycles_table(evaluation.cycles))
     verdict = chosen.pipeline.spec.verdict
-    if verdict is not None and evaluation.status.viable and not verdict.holds(evaluation):
-        missing = ", ".join(verdict.failed_terms(evaluation))
-        out.print(f"not a {verdict.label}: {missing}", markup=False)
+    if verdict is not None:
+        out.print(verdict.sentence(evaluation), markup=False)
     err.print(chosen.describe)
     if evaluation.detail:
         out.print(evaluation.detail, markup=False)

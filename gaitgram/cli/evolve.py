@@ -23,6 +23,7 @@ from gaitgram.evolution.config import (
     ConfigError,
     RunConfig,
     load_config,
+    setting_location,
     with_overrides,
 )
 from gaitgram.evolution.distributed import ClusterError, DaskEvaluator, connect
@@ -35,7 +36,6 @@ from gaitgram.language.source import SourceError, read_source
 from gaitgram.pipeline import DEFAULT_BACKEND, Pipeline, PipelineError
 from gaitgram.strategies.api import GenerationStats, StrategyError
 from gaitgram.strategies.registry import load_strategy, run_pipeline
-from gaitgram.tomlplaces import key_location
 
 #: What makes a run refused before it starts (exit 2).
 _INPUT_ERRORS = (ConfigError, PipelineError, RunDirectoryError, CheckpointError, TransferError)
@@ -63,6 +63,13 @@ _Strategy = Annotated[
     typer.Option(
         help="Search strategy: ge (default), random, cma-es, nsga2, map-elites, or a plug-in's "
         "(docs/strategies.md)."
+    ),
+]
+_Representation = Annotated[
+    str | None,
+    typer.Option(
+        help="What a genome is: ge (default: codons), pige, sge, dsge, cfg-gp, or a plug-in's; its "
+        "settings in the --config file's [representation_settings] (docs/ge.md)."
     ),
 ]
 _Threads = Annotated[
@@ -104,6 +111,7 @@ def command(
     seed: _Seed = None,
     backend: _Backend = None,
     strategy: _Strategy = None,
+    representation: _Representation = None,
     threads: _Threads = None,
     start_from: _StartFrom = None,
     out: _Out = None,
@@ -124,6 +132,7 @@ def command(
     flags = {"generations": generations, "population": population, "runs": runs, "seed": seed}
     flags["backend"] = backend
     flags["strategy"] = strategy
+    flags["representation"] = representation
     flags["start_from"] = None if start_from is None else os.path.abspath(start_from)  # as a file's is
     given = {k: v for k, v in flags.items() if v is not None}
     with contextlib.ExitStack() as held:  # the run directory's lock and the evaluator, until the end
@@ -164,7 +173,7 @@ def _new_run(
         top = (error.key or "").split(".")[0]
         if error.key is None or config is None or (top in given and top not in NESTED):
             raise  # nowhere in the file: a grammar's fault, or a flag's (whose name the message has)
-        raise PipelineError(f"{key_location(config, '', error.key)}: {error}", key=error.key) from None
+        raise PipelineError(f"{setting_location(config, error.key)}: {error}", key=error.key) from None
     if out is None:
         out = Path("runs") / f"{grammar.stem}-seed{pipeline.config.seed}"
         RunDirectory.check_new(out)
@@ -244,6 +253,9 @@ def _evolve(
     err.print(
         f"best fitness {best.fitness:.6g} ({best.evaluation.status}); run directory {directory.path}",
     )
+    verdict = directory.pipeline.spec.verdict
+    if verdict is not None:
+        err.print(f"the best gait is {verdict.sentence(best.evaluation)}")
 
 
 def _lock(path: Path) -> DirectoryLock:
@@ -295,6 +307,8 @@ def _resume(
         given = with_overrides(directory.config, **flags)
         if given.strategy != directory.config.strategy:  # another strategy: its own default settings
             given = replace(given, strategy_settings={})
+        if given.representation != directory.config.representation:  # likewise its representation
+            given = replace(given, representation_settings={})
     grow_to = None
     if given is not None and given.runs > directory.config.runs:  # more runs: added, the rest kept
         grow_to, given = given.runs, replace(given, runs=directory.config.runs)

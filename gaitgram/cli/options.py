@@ -31,6 +31,25 @@ Walk = Annotated[
 ]
 
 
+#: ``map``, ``sample``, ``compile``, ``test``: what a genome is (docs/ge.md).
+Representation = Annotated[
+    str,
+    typer.Option(
+        "--representation",
+        help="What a genome is: ge (default: codons), pige, sge, dsge, cfg-gp, or a plug-in's (docs/ge.md).",
+    ),
+]
+#: ``map``, ``sample``, ``compile``, ``test``: a representation setting, as JSON or else text.
+RepresentationSettings = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--setting",
+        metavar="KEY=JSON",
+        help="A setting of the representation, for example recursion=3 for sge (repeatable; docs/ge.md).",
+    ),
+]
+
+
 #: ``evaluate``/``render``: a backend setting over the configuration's, as JSON or else text.
 Settings = Annotated[
     list[str] | None,
@@ -38,14 +57,14 @@ Settings = Annotated[
 ]
 
 
-def parse_settings(items: list[str] | None) -> dict[str, object]:
+def parse_settings(items: list[str] | None, flag: str = "--set") -> dict[str, object]:
     """``["froude=0.5", "body=pony"]`` -> ``{"froude": 0.5, "body": "pony"}`` (a value that is not
     JSON is text), with a usage error (exit 2) naming the bad one."""
     settings: dict[str, object] = {}
     for item in items or []:
         key, sep, raw = item.partition("=")
         if not sep or not key.strip():
-            raise typer.BadParameter(f"{item!r} is not KEY=VALUE", param_hint="--set")
+            raise typer.BadParameter(f"{item!r} is not KEY=VALUE", param_hint=flag)
         try:
             settings[key.strip()] = json.loads(raw)
         except json.JSONDecodeError:

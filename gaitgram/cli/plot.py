@@ -10,6 +10,7 @@ import typer
 
 from gaitgram.cli.common import (
     check_output,
+    compiled_or_exit,
     err,
     fail,
     load_usable,
@@ -18,18 +19,26 @@ from gaitgram.cli.common import (
     require_extra,
     write_or_exit,
 )
-from gaitgram.cli.options import Defines, parse_defines
-from gaitgram.ge import CodonMode, compile_mapper
+from gaitgram.cli.options import Defines, Representation, RepresentationSettings, parse_defines
+from gaitgram.ge import CodonMode
+from gaitgram.ge.registry import DEFAULT_REPRESENTATION
 
 
 def command(
     grammar: Annotated[Path, typer.Argument(help="The grammar.", show_default=False)],
     output: Annotated[Path, typer.Option("--output", "-o", help="curves.png or curves.svg.")],
-    genome: Annotated[str | None, typer.Option(help="Codons, e.g. 12,7,301.")] = None,
-    genome_file: Annotated[Path | None, typer.Option(help="Codons from a file; - for stdin.")] = None,
+    genome: Annotated[
+        str | None,
+        typer.Option(help="The genome in its representation's syntax (GE: codons, e.g. 12,7,301)."),
+    ] = None,
+    genome_file: Annotated[Path | None, typer.Option(help="The genome from a file; - for stdin.")] = None,
     seed: Annotated[bool, typer.Option(help="Draw the bundled seed curves dashed.")] = True,
-    codons: Annotated[CodonMode, typer.Option(help="lazy or eager codon consumption.")] = CodonMode.LAZY,
-    max_wraps: Annotated[int, typer.Option(min=0)] = 3,
+    codons: Annotated[
+        CodonMode | None, typer.Option(help="GE: lazy (default) or eager codon consumption.")
+    ] = None,
+    max_wraps: Annotated[int | None, typer.Option(min=0, help="GE: wraps allowed (default 3).")] = None,
+    representation: Representation = DEFAULT_REPRESENTATION,
+    setting: RepresentationSettings = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite OUTPUT.")] = False,
     defines: Defines = None,
 ) -> None:
@@ -39,9 +48,11 @@ def command(
         raise typer.BadParameter("the output must end in .png, .svg or .pdf", param_hint="--output")
     inputs = read_inputs((grammar, "the grammar"), (genome_file, "the --genome-file"))
     check_output(output, force=force, flag="-o", inputs=inputs)
-    codon_values = read_genome(genome, genome_file)
     checked = load_usable(grammar, parse_defines(defines))
-    derivation = compile_mapper(checked.grammar, codons=codons, max_wraps=max_wraps).map(codon_values)
+    compiled = compiled_or_exit(
+        checked, representation, setting, codons=codons.value if codons else None, max_wraps=max_wraps
+    )
+    derivation = compiled.derivation(read_genome(genome, genome_file, compiled))
     if not derivation.valid:
         raise fail(f"the genome is invalid ({derivation.reason}); nothing to plot", 1)
     from gaitgram.analysis.motion_text import closed_loops

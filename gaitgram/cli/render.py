@@ -35,6 +35,7 @@ from gaitgram.cli.selection import (
     select_gait,
 )
 from gaitgram.evolution.rundir import run_input
+from gaitgram.evolution.selection import judged
 from gaitgram.extras import MissingExtra
 from gaitgram.pipeline import Pipeline, PipelineError
 
@@ -128,6 +129,7 @@ def command(
         chosen = select_gait(run, grammar, genome, genome_file, generation, config, overrides, defines, walk)
         shown, beside = _gaits(chosen, compare)
         animation, movie, pictures = _render(output, fps, shown, beside)
+        verdict = _verdict(chosen)
     except SelectionError as error:
         raise fail(str(error)) from None
     except KeyboardInterrupt:
@@ -135,6 +137,8 @@ def command(
     write_all_or_exit([(output, movie), (strip, pictures)])
     what = chosen.describe + (f", beside {beside.label}" if beside is not None else "")
     err.print(f"wrote {output} ({len(animation)} frames) and {strip}; {what}")
+    if verdict is not None:
+        err.print(f"the gait shown is {verdict}")
 
 
 def _check_outputs(output: Path, strip: Path | None, force: bool, inputs: list[fileio.Input]) -> Path:
@@ -209,6 +213,18 @@ def _render(
     except (RenderError, PipelineError) as error:
         raise fail(str(error)) from None
     return animation, movie, pictures
+
+
+def _verdict(chosen: SelectedGait) -> str | None:
+    """Whether the gait shown is what its backend judges gaits by (a walk, say), as the run
+    recorded it or, for a gait it did not record, scored now; None for a backend that judges none."""
+    verdict = chosen.pipeline.spec.verdict
+    if verdict is None:
+        return None
+    try:
+        return verdict.sentence(judged(chosen))
+    except PipelineError as error:
+        raise fail(str(error)) from None
 
 
 def _best_of(path: Path) -> SelectedGait:

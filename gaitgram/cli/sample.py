@@ -1,4 +1,5 @@
-"""``gaitgram sample``: random derivations, to see what a grammar produces."""
+"""``gaitgram sample``: random derivations, to see what a grammar produces, made as a run's first
+generation is (GE's methods by default; ``--representation`` another's initialisation)."""
 
 from __future__ import annotations
 
@@ -11,8 +12,8 @@ import typer
 
 from gaitgram import jsonio
 from gaitgram.analysis.facts import GrammarFacts
-from gaitgram.cli.common import fail, load_usable
-from gaitgram.cli.options import Defines, parse_defines
+from gaitgram.cli.common import compiled_or_exit, fail, load_usable
+from gaitgram.cli.options import Defines, Representation, RepresentationSettings, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper
 from gaitgram.ge.initialisation import (
     GeneratedTree,
@@ -21,28 +22,39 @@ from gaitgram.ge.initialisation import (
     ramped_population,
     random_tree,
 )
+from gaitgram.ge.registry import DEFAULT_REPRESENTATION, Compiled
 
 
 def command(
     grammar: Annotated[Path, typer.Argument(help="The grammar.", show_default=False)],
     count: Annotated[int, typer.Option("-n", "--count", min=1, help="How many derivations.")] = 10,
     method: Annotated[
-        Method, typer.Option(help="grow, full, or ramped (half each, depths ramped).")
-    ] = Method.RAMPED,
-    max_depth: Annotated[int, typer.Option(min=1, help="Deepest rule node.")] = 10,
+        Method | None, typer.Option(help="GE: grow, full, or ramped (half each, depths ramped; default).")
+    ] = None,
+    max_depth: Annotated[
+        int | None, typer.Option(min=1, help="Deepest rule node (GE: default 10; else the setting's).")
+    ] = None,
     seed: Annotated[int, typer.Option(help="Random seed: the same seed gives the same samples.")] = 0,
     codons: Annotated[
-        CodonMode, typer.Option(help="Codon consumption the genomes are made for.")
+        CodonMode, typer.Option(help="GE: codon consumption the genomes are made for.")
     ] = CodonMode.LAZY,
+    representation: Representation = DEFAULT_REPRESENTATION,
+    setting: RepresentationSettings = None,
     as_json: Annotated[bool, typer.Option("--json", help="One JSON object per line.")] = False,
     defines: Defines = None,
 ) -> None:
     """Print random derivations (phenotypes), made by the same initialisation evolution uses."""
     result = load_usable(grammar, parse_defines(defines))
     rng = np.random.default_rng(seed)
+    if representation != DEFAULT_REPRESENTATION:
+        if method is not None:
+            raise fail(f"--method picks GE's initialisation; {representation} initialises as its own does")
+        compiled = compiled_or_exit(result, representation, setting, max_depth=max_depth)
+        _sample(compiled, rng, count, as_json)
+        return
     mapper = compile_mapper(result.grammar, codons=codons, max_wraps=0)
     try:
-        for tree in _trees(result.facts, rng, count, method, max_depth, codons):
+        for tree in _trees(result.facts, rng, count, method or Method.RAMPED, max_depth or 10, codons):
             mapped = mapper.map_fast(tree.genome)
             if as_json:
                 record = {
@@ -57,6 +69,26 @@ def command(
                 typer.echo(mapped.phenotype)
     except InitialisationError as error:
         raise fail(str(error), 1) from None
+
+
+def _sample(compiled: Compiled, rng: np.random.Generator, count: int, as_json: bool) -> None:
+    """A first generation of ``count`` genomes of another representation than GE, as a run's."""
+    try:
+        genomes = compiled.initialise(rng, count)
+    except InitialisationError as error:
+        raise fail(str(error), 1) from None
+    for genome, mapped in zip(genomes, compiled.map_many(genomes), strict=True):
+        if as_json:
+            record = {
+                "phenotype": mapped.phenotype,
+                "genome": compiled.encode(genome),
+                "depth": compiled.derivation(genome).depth,
+                "representation": compiled.name,
+                "joints": dict(mapped.joints),
+            }
+            typer.echo(jsonio.dumps(record))
+        else:
+            typer.echo(mapped.phenotype)
 
 
 def _trees(

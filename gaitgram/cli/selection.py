@@ -10,7 +10,7 @@ from typing import Annotated, Any
 
 import typer
 
-from gaitgram.cli.common import load_usable, read_genome, read_inputs
+from gaitgram.cli.common import decode_genome, load_usable, read_genome_text, read_inputs
 from gaitgram.cli.options import parse_defines
 from gaitgram.evolution.checkpoint import CheckpointError
 from gaitgram.evolution.config import ConfigError, load_config
@@ -34,9 +34,14 @@ __all__ = [
 
 # The options that choose a gait, as each command that takes them spells them.
 Grammar = Annotated[Path | None, typer.Argument(help="The grammar (not with --run).")]
-GenomeCodons = Annotated[str | None, typer.Option("--genome", help="Codons, for example 12,7,301.")]
+GenomeCodons = Annotated[
+    str | None,
+    typer.Option(
+        "--genome", help="The genome in its representation's syntax: GE's codons, for example 12,7,301."
+    ),
+]
 GenomeFile = Annotated[
-    Path | None, typer.Option("--genome-file", help="Read the codons from a file; - for standard input.")
+    Path | None, typer.Option("--genome-file", help="Read the genome from a file; - for standard input.")
 ]
 Codons = Annotated[
     CodonMode | None, typer.Option("--codons", help="Codon consumption, lazy or eager (default lazy).")
@@ -71,16 +76,21 @@ def select_gait(
         if run is not None:
             _refuse_with_run(run, grammar, genome, genome_file, config, overrides, defines, walk)
             directory = RunDirectory.open(run)
-            codons = None if genome is None and genome_file is None else read_genome(genome, genome_file)
-            return from_run(directory, run, codons, generation, walk=walk)
+            given = None
+            if genome is not None or genome_file is not None:
+                text, origin = read_genome_text(genome, genome_file)
+                given = decode_genome(directory.pipeline.representation, text, origin)
+            return from_run(directory, run, given, generation, walk=walk)
         if walk:
             raise SelectionError("--walk picks a gait from a run: give --run DIR")
         if grammar is None:
             raise typer.BadParameter("give a grammar and a genome, or --run DIR", param_hint="GRAMMAR")
-        codons = read_genome(genome, genome_file)
+        text, origin = read_genome_text(genome, genome_file)
         run_config = load_config(config, overrides)
         pipeline = Pipeline.build(load_usable(grammar, parse_defines(defines)), run_config)
-        return from_pipeline(pipeline, codons, generation, str(grammar))
+        return from_pipeline(
+            pipeline, decode_genome(pipeline.representation, text, origin), generation, str(grammar)
+        )
     except (ConfigError, PipelineError, RunDirectoryError, CheckpointError) as error:
         raise SelectionError(str(error)) from None
 

@@ -48,6 +48,13 @@ _Generations = Annotated[
 _Population = Annotated[
     int | None, typer.Option(min=2, help="Population of every run; the elite keeps its share of it.")
 ]
+_Representation = Annotated[
+    str | None,
+    typer.Option(
+        help="Every arm's representation (what a genome is: ge, pige, sge, dsge, cfg-gp; docs/ge.md), "
+        "instead of the file's."
+    ),
+]
 _Jobs = Annotated[
     int | None, typer.Option(min=1, help="Runs at once in local processes (default: one per core).")
 ]
@@ -81,6 +88,7 @@ def command(
     runs: _Runs = None,
     generations: _Generations = None,
     population: _Population = None,
+    representation: _Representation = None,
     jobs: _Jobs = None,
     threads: _Threads = None,
     scheduler: _Scheduler = None,
@@ -97,7 +105,7 @@ def command(
     run, and how far the directory has got, before hours are spent.
     """
     if check:
-        _check(study_file, out, ScaleDown(runs, generations, population))
+        _check(study_file, out, ScaleDown(runs, generations, population, representation))
         return
     if out is None:
         raise typer.BadParameter(
@@ -109,7 +117,7 @@ def command(
     threads = threads or max(1, cores // jobs)
     check_output(out, force=False, directory=True, parents=True, flag="-o")  # an existing study continues
     try:
-        study = load_study(study_file, ScaleDown(runs, generations, population))
+        study = load_study(study_file, ScaleDown(runs, generations, population, representation))
         # The cluster answers before any directory is made; the directory is whole before any run.
         cluster = connect(scheduler, dask_local)
         try:

@@ -26,8 +26,8 @@ import numpy as np
 from gaitgram import jsonio
 from gaitgram.backends.api import Evaluation, GaitStatus
 from gaitgram.fileio import write_atomically
-from gaitgram.ge.operators import Genome
-from gaitgram.pipeline import Individual, Pipeline
+from gaitgram.ge.registry import GenomeError
+from gaitgram.pipeline import Genome, Individual, Pipeline
 from gaitgram.strategies.api import GenerationStats, RunState
 
 CHECKPOINT_VERSION = 2
@@ -48,10 +48,14 @@ def _digest(content: Mapping[str, Any]) -> str:
 _MEMORY_FILE = re.compile(r"^strategy-[0-9]{6}\.pickle$")
 
 
-def save_checkpoint(path: Path, state: RunState, *, fingerprint: str, run: int) -> None:
-    """The state, atomically; a strategy's memory first, to a file of its own that the checkpoint
+def save_checkpoint(
+    path: Path, state: RunState, *, fingerprint: str, run: int, pipeline: Pipeline | None = None
+) -> None:
+    """The state, atomically, each genome as the run's representation writes it (``pipeline``'s;
+    without it, as lists); a strategy's memory first, to a file of its own that the checkpoint
     names with its digest (older such files are removed once the checkpoint names the new one)."""
     memory: dict[str, str] | None = None
+    to_json = pipeline.representation.to_json if pipeline is not None else _as_lists
     if state.memory is not None:
         blob = pickle.dumps(state.memory, protocol=pickle.HIGHEST_PROTOCOL)
         name = f"strategy-{state.generation:06d}.pickle"
@@ -65,7 +69,8 @@ def save_checkpoint(path: Path, state: RunState, *, fingerprint: str, run: int) 
             "generation": state.generation,
             "rng": state.rng.bit_generator.state,
             "population": [
-                {"genome": list(i.genome), "evaluation": i.evaluation.as_record()} for i in state.population
+                {"genome": to_json(i.genome), "evaluation": i.evaluation.as_record()}
+                for i in state.population
             ],
             "history": [s.as_record() for s in state.history],
         }
@@ -76,6 +81,10 @@ def save_checkpoint(path: Path, state: RunState, *, fingerprint: str, run: int) 
     for stale in path.parent.glob("strategy-*.pickle"):
         if memory is None or stale.name != memory["file"]:
             stale.unlink(missing_ok=True)
+
+
+def _as_lists(genome: Genome) -> Any:
+    return [_as_lists(v) if isinstance(v, tuple) else v for v in genome]
 
 
 def load_checkpoint(
@@ -180,15 +189,17 @@ def _checked_state(data: Any, pipeline: Pipeline, fingerprint: str | tuple[str, 
             isinstance(genome, list) and 0 < len(genome) <= MAX_CHECKPOINT_GENOME,
             f"individual {i} has no genome",
         )
-        _expect(
-            all(_is_int(c) and 0 <= c < config.codon_size for c in genome),
-            f"individual {i}'s genome has codons outside [0, {config.codon_size})",
-        )
-        genomes.append(tuple(genome))
+        try:
+            genomes.append(pipeline.representation.from_json(genome))
+        except GenomeError as error:
+            raise _Corrupt(f"individual {i}'s genome {error}") from None
         evaluations.append(_evaluation(entry.get("evaluation"), i))
-    mapped = pipeline.map(genomes)
+    try:
+        mapped = pipeline.map(genomes)
+    except GenomeError as error:  # held, but no genome of this grammar (another grammar's genes)
+        raise _Corrupt(f"a genome {error}") from None
     population = [
-        Individual(g, m.used_codons, m.phenotype, m.joints, e)
+        Individual(g, m.used, m.phenotype, m.joints, e)
         for g, m, e in zip(genomes, mapped, evaluations, strict=True)
     ]
     records = content.get("history")

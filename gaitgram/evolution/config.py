@@ -5,6 +5,11 @@ the run directory; nothing else reads parameters from anywhere (no global
 parameter dict). Every key is checked when it is read, with the file and the
 key named: an unknown key, a non-finite number, a value out of range or one
 inconsistent with another is refused before anything runs.
+
+What a genome is belongs to the run's representation (``representation = "sge"``, GE by default)
+and its settings to ``[representation_settings]``, checked against what the representation
+declares (:mod:`gaitgram.ge.registry`). GE's settings were keys of their own once (``max_wraps =
+3`` at the top level): a file that writes them so still reads as it always did, as GE's settings.
 """
 
 from __future__ import annotations
@@ -18,7 +23,13 @@ from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
-from gaitgram.ge.mapper import CodonMode
+from gaitgram.backends.api import SettingsError
+from gaitgram.ge.registry import (
+    DEFAULT_REPRESENTATION,
+    RepresentationLoadError,
+    RepresentationNotFound,
+    get_representation,
+)
 from gaitgram.language.source import describe_os_error
 from gaitgram.tomlplaces import key_location
 
@@ -46,16 +57,8 @@ LIMITS: dict[str, tuple[float, float]] = {
     "population": (2, 1_000_000),
     "runs": (1, 10_000),
     "seed": (0, 2**63 - 1),
-    "max_wraps": (0, 1_000),
-    "codon_size": (2, 2**31 - 1),
     "elite": (0, 1_000_000),
     "tournament": (1, 1_000_000),
-    "init_max_depth": (1, 1_000),
-    "grow_probability": (0.0, 1.0),
-    "tail": (0.0, 100.0),
-    "crossover": (0.0, 1.0),
-    "mutation": (0.0, 1.0),
-    "max_depth": (1, 100_000),
     "samples": (8, 65_536),
 }
 
@@ -66,20 +69,8 @@ class RunConfig:
     population: int = 75
     runs: int = 1
     seed: int = 0
-    max_wraps: int = 3
-    codons: CodonMode = CodonMode.LAZY
-    codon_size: int = 100_000
     elite: int = 7
     tournament: int = 3
-    init_max_depth: int = 10
-    grow_probability: float = 0.5
-    tail: float = 0.5
-    crossover: float = 0.9
-    fixed_point: bool = True
-    crossover_within_used: bool = True
-    mutation: float = 0.02
-    mutation_within_used: bool = False
-    max_depth: int | None = None
     samples: int = 256  # samples per cycle of each joint curve
     backend: str | None = None  # None: the grammar's @backend, else mujoco-horse
     backend_settings: Mapping[str, Any] = field(default_factory=dict)
@@ -90,6 +81,10 @@ class RunConfig:
     #: A run directory (or a study's arm) whose final population the first generation starts
     #: from, instead of random trees: a gait transferred to another body (seeded transfer).
     start_from: str | None = None
+    #: What a genome is (docs/ge.md), GE by default, and its settings, checked against what it
+    #: declares (normalised, defaults spelt out, once the run's pipeline is built).
+    representation: str = DEFAULT_REPRESENTATION
+    representation_settings: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for key, (low, high) in LIMITS.items():
@@ -157,7 +152,11 @@ class RunConfig:
                 continue
             if f.name == "strategy" and value == "ge":  # the default: a GE run's file is what it always was
                 continue
+            if f.name == "representation" and value == DEFAULT_REPRESENTATION:
+                continue
             lines.append(f"{f.name} = {_toml_value(value)}")
+        settings = {k: v for k, v in self.representation_settings.items() if v is not None}  # None: left out
+        lines += _toml_table("representation_settings", settings)
         for table in ("backend_settings", "strategy_settings"):
             lines += _toml_table(table, getattr(self, table))
         for stage in self.weight_schedule:
@@ -166,13 +165,11 @@ class RunConfig:
         return "\n".join(lines) + "\n"
 
     def as_dict(self) -> dict[str, Any]:
-        data = asdict(self)
-        data["codons"] = self.codons.value
-        return data
+        return asdict(self)
 
 
 #: Fields written as tables of their own, after the plain keys.
-_TABLES = ("backend_settings", "weight_schedule", "strategy_settings")
+_TABLES = ("backend_settings", "weight_schedule", "strategy_settings", "representation_settings")
 
 
 def _toml_table(name: str, table: Mapping[str, Any]) -> list[str]:
@@ -240,7 +237,9 @@ def read_toml(path: Path) -> dict[str, Any]:
 
 
 #: Tables of settings that flags and a study's layers add to key by key rather than replace.
-NESTED = ("backend_settings", "strategy_settings")
+NESTED = ("backend_settings", "strategy_settings", "representation_settings")
+#: The tables of settings a plug-in declares, checked (and shown in a difference) key by key.
+SETTINGS_TABLES = ("backend_settings", "strategy_settings", "representation_settings")
 
 
 def load_config(path: Path | None, overrides: Mapping[str, Any] | None = None) -> RunConfig:
@@ -249,16 +248,20 @@ def load_config(path: Path | None, overrides: Mapping[str, Any] | None = None) -
     where = str(path) if path is not None else "the command line"
     values: dict[str, Any] = {}
     for key, value in data.items():
-        if key not in _FIELDS:
+        if key not in _FIELDS and key not in ge_setting_names():
             raise ConfigError(f"{_located(path, key)}: unknown key {key!r}{_suggest(key, _FIELDS)}")
         values[key] = value
     if path is not None and isinstance(values.get("start_from"), str):  # relative to the file
         values["start_from"] = os.path.abspath(path.parent / values["start_from"])
     flags = {k: v for k, v in (overrides or {}).items() if v is not None}
+    ge_keys = ge_setting_names()
     for key, value in flags.items():
         if key in NESTED:  # flags add to the file's table (one that is no table stays, refused below)
             below = values.get(key, {})
             values[key] = {**below, **value} if isinstance(below, Mapping) else below
+        elif key in ge_keys and key not in values:  # a GE setting's flag (--max-wraps): into the table
+            below = values.get("representation_settings", {})
+            values["representation_settings"] = {**below, key: value} if isinstance(below, Mapping) else below
         else:
             values[key] = value
     if path is not None and flags:
@@ -266,6 +269,9 @@ def load_config(path: Path | None, overrides: Mapping[str, Any] | None = None) -
 
     def locate(key: str) -> str:
         """Where a key's value came from: its flag, or its place in the file."""
+        table, _, name = key.partition(".")
+        if table == "representation_settings" and name in ge_keys and name in flags:
+            key = name
         if key in flags and key not in NESTED:
             return "--" + key.replace("_", "-")
         return where if path is None else _located(path, key)
@@ -281,7 +287,11 @@ def config_from_mapping(
     values: Mapping[str, Any], where: str, locate: Callable[[str], str] | None = None
 ) -> RunConfig:
     """A config from plain TOML values, every key checked; errors start with where the key is
-    (``locate(key)``: a file's line and column) or else ``where``."""
+    (``locate(key)``: a file's line and column) or else ``where``. GE's settings written at the
+    top level, as older files write them, are GE's ``representation_settings``."""
+    values, moved = _representation_keys(values, where, locate)
+    if locate is not None and moved:
+        locate = _moved_located(locate, moved)
     converted: dict[str, Any] = {}
     for key, value in values.items():
         here = locate(key) if locate is not None else where
@@ -289,20 +299,17 @@ def config_from_mapping(
             raise ConfigError(f"{here}: unknown key {key!r}{_suggest(key, _FIELDS)}")
         if key == "weight_schedule":
             converted[key] = _schedule(value, here)
-        elif key in ("backend_settings", "strategy_settings"):
+        elif key in SETTINGS_TABLES:
             if not isinstance(value, Mapping):
                 raise ConfigError(f"{here}: {key}: must be a table [{key}]")
-            for name, setting in value.items():
+            for name, setting in value.items() if key != "representation_settings" else ():  # (declared)
                 at = locate(f"{key}.{name}") if locate is not None else where
                 _check_finite(setting, f"{at}: [{key}] {name}")
             converted[key] = dict(value)
-        elif key == "codons":
-            try:
-                converted[key] = CodonMode(value)
-            except ValueError:
-                raise ConfigError(f"{here}: codons: must be 'lazy' or 'eager', not {value!r}") from None
         else:
             converted[key] = _typed(key, value, here)
+    if "representation_settings" in converted:
+        converted["representation_settings"] = _representation_settings(converted, moved, where, locate)
     try:
         return RunConfig(**converted)
     except ConfigError as error:
@@ -312,8 +319,110 @@ def config_from_mapping(
         raise ConfigError(f"{here}: {error}", keys=error.keys) from None
 
 
+def ge_setting_names() -> tuple[str, ...]:
+    """GE's settings: keys of a run.toml's top level once, read as GE's representation settings."""
+    return tuple(s.name for s in get_representation(DEFAULT_REPRESENTATION).settings)
+
+
+def _representation_keys(
+    values: Mapping[str, Any], where: str, locate: Callable[[str], str] | None
+) -> tuple[dict[str, Any], tuple[str, ...]]:
+    """``values`` with GE's settings written at the top level moved into ``representation_settings``
+    (a GE run's; another representation's run is refused them, with the edit to make), and the
+    keys moved."""
+    legacy = [key for key in values if key not in _FIELDS and key in ge_setting_names()]
+    if not legacy:
+        return dict(values), ()
+    moved = {k: v for k, v in values.items() if k not in legacy}
+    representation = values.get("representation", DEFAULT_REPRESENTATION)
+    first = legacy[0]
+    here = locate(first) if locate is not None else where
+    if representation != DEFAULT_REPRESENTATION:
+        spec = _spec_or_none(representation)
+        takes = spec is not None and spec.setting(first) is not None
+        edit = (
+            f"move it into [representation_settings] ({first} = {_toml_value(values[first])} there), "
+            f"as {representation}'s {first}"
+            if takes
+            else f"remove it ({representation} has no setting {first})"
+        )
+        raise ConfigError(
+            f"{here}: {first}: GE's setting, written at the top level as older files write it; this "
+            f"run's representation is {representation}: {edit}",
+            keys=(first,),
+        )
+    table = values.get("representation_settings", {})
+    if isinstance(table, Mapping):
+        twice = [key for key in legacy if key in table]
+        if twice:
+            raise ConfigError(
+                f"{here}: {twice[0]}: given twice, at the top level and in [representation_settings]; "
+                f"remove the top-level {twice[0]} = ...",
+                keys=(twice[0],),
+            )
+        moved["representation_settings"] = {**{k: values[k] for k in legacy}, **table}
+    return moved, tuple(legacy)
+
+
+def _moved_located(locate: Callable[[str], str], moved: tuple[str, ...]) -> Callable[[str], str]:
+    """``locate`` for settings moved from the top level: found where they are written."""
+
+    def located(key: str) -> str:
+        table, _, name = key.partition(".")
+        return locate(name if table == "representation_settings" and name in moved else key)
+
+    return located
+
+
+def setting_location(path: Path, key: str) -> str:
+    """``path:line:column`` where a run.toml writes ``key`` (dotted), a GE setting also where an
+    older file writes it, at the top level."""
+    at = key_location(path, "", key)
+    table, _, name = key.partition(".")
+    if at == str(path) and table == "representation_settings" and name in ge_setting_names():
+        return key_location(path, "", name)
+    return at
+
+
+def _spec_or_none(name: Any) -> Any:
+    try:
+        return get_representation(name) if isinstance(name, str) else None
+    except (RepresentationNotFound, RepresentationLoadError):
+        return None
+
+
+def _representation_settings(
+    converted: Mapping[str, Any],
+    moved: tuple[str, ...],
+    where: str,
+    locate: Callable[[str], str] | None,
+) -> dict[str, Any]:
+    """The representation's settings checked against its declaration (names, types, ranges), each
+    error located where the setting is written. Unchecked when the representation is not
+    installed: building the pipeline says so, naming the representation. A setting written at the
+    top level (``moved``) is named as it is written."""
+    name = converted.get("representation", DEFAULT_REPRESENTATION)
+    spec = _spec_or_none(name)
+    settings = converted["representation_settings"]
+    if spec is None:
+        return dict(settings)
+    try:
+        checked = spec.checked_settings(settings)
+    except SettingsError as error:
+        at = locate(f"representation_settings.{error.key}") if locate is not None else where
+        table = "" if error.key in moved else "[representation_settings] "
+        raise ConfigError(
+            f"{at}: {table}{error.key}: {error.message}",
+            keys=(f"representation_settings.{error.key}",),
+        ) from None
+    return {key: checked[key] for key in settings}  # as given: defaults are spelt out when built
+
+
 def _suggest(key: str, known: Mapping[str, Any]) -> str:
-    close = difflib.get_close_matches(key.replace("-", "_"), list(known), n=1, cutoff=0.75)
+    """A did-you-mean among the known keys and GE's settings (still read at the top level), else
+    the known keys."""
+    candidates = [*known, *ge_setting_names()]
+    close = difflib.get_close_matches(key.replace("-", "_"), candidates, n=1, cutoff=0.75)
     return f"; did you mean {close[0]}?" if close else f"; known keys: {', '.join(sorted(known))}"
 
 
@@ -331,9 +440,9 @@ def _check_finite(value: Any, where: str) -> None:
 
 def _typed(key: str, value: Any, where: str) -> Any:
     default = getattr(RunConfig(), key)
-    if key in ("max_depth", "backend", "start_from") and value is None:
+    if key in ("backend", "start_from") and value is None:
         return None
-    expected: type = type(default) if default is not None else (int if key == "max_depth" else str)
+    expected: type = type(default) if default is not None else str
     if expected is float and isinstance(value, int) and not isinstance(value, bool):
         return float(value)
     if not isinstance(value, expected) or (expected is int and isinstance(value, bool)):
@@ -341,7 +450,7 @@ def _typed(key: str, value: Any, where: str) -> Any:
         raise ConfigError(f"{where}: {key}: must be {article} {expected.__name__}, not {value!r}")
     if isinstance(value, float) and not math.isfinite(value):
         raise ConfigError(f"{where}: {key}: must be a finite number, not {value}")
-    if key in ("backend", "strategy", "start_from") and not value.strip():
+    if key in ("backend", "strategy", "start_from", "representation") and not value.strip():
         raise ConfigError(f"{where}: {key}: must name a {key}, not an empty string")
     return value
 
@@ -384,7 +493,7 @@ def differences(saved: RunConfig, given: RunConfig, *, ignore: frozenset[str] = 
     found = []
     for f in fields(RunConfig):
         a, b = getattr(saved, f.name), getattr(given, f.name)
-        if f.name in ("backend_settings", "strategy_settings"):
+        if f.name in SETTINGS_TABLES:
             skip = ignore if f.name == "backend_settings" else frozenset()
             for key in sorted(set(a) | set(b)):
                 if key not in skip and a.get(key) != b.get(key):

@@ -184,7 +184,7 @@ def run_evolution(
         # Usage first: a kill before the checkpoint leaves an entry the resume redoes and replaces.
         spent.append(meter.take(state.generation))
         write_usage(run_dir, RunUsage(tuple(spent)))
-        save_checkpoint(checkpoint, state, fingerprint=fingerprint, run=run)
+        save_checkpoint(checkpoint, state, fingerprint=fingerprint, run=run, pipeline=pipeline)
         for name, text in run_files(pipeline, strategy, context, state).items():
             write_atomically(run_dir / name, text)
         if on_generation:

@@ -33,11 +33,12 @@ def stats_csv(records: list[dict[str, Any]]) -> str:
 
 def best_record(pipeline: Pipeline, state: RunState) -> dict[str, Any]:
     best = state.best
-    derivation = pipeline.mapper.map(best.genome)
+    representation = pipeline.representation
+    derivation = representation.derivation(best.genome)
     return {
         "generation": state.generation,
-        "genome": list(best.genome),
-        "used_codons": best.used_codons,
+        "genome": representation.to_json(best.genome),
+        f"used_{representation.counts}": best.used,
         "phenotype": best.phenotype,
         "joints": dict(best.joints),
         # Each curve as the backend received it: degrees at phases k / CURVE_SAMPLES, frozen joints

@@ -4,8 +4,8 @@ Layout::
 
     manifest.json   what the run is: digests of grammar.gg and config.toml, the --define values,
                     the backend's name and version, the engine revision, gaitgram's version,
-                    the search strategy and its version (unless GE), and the run's
-                    fingerprint (a digest of all of that)
+                    the search strategy and its version (unless GE), the representation and
+                    its version (unless GE), and the run's fingerprint (a digest of all of that)
     grammar.gg      the grammar text the runs use (a copy: editing the original changes nothing)
     config.toml     the resolved configuration: defaults, file and flags, the backend named and
                     its settings spelt out
@@ -51,6 +51,7 @@ from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mappin
 from gaitgram.evolution.engine import ENGINE_REVISION, run_context, run_files
 from gaitgram.evolution.records import run_records
 from gaitgram.fileio import Input, OutputError, check_output, created_directory, write_atomically
+from gaitgram.ge.registry import DEFAULT_REPRESENTATION, representation_version
 from gaitgram.language import parse
 from gaitgram.language.source import SourceText, decode_source, path_problem
 from gaitgram.pipeline import Genome, Individual, Pipeline, PipelineError
@@ -115,11 +116,22 @@ def identity(pipeline: Pipeline, defines: Mapping[str, int], *, with_runs: bool 
         del meaning["strategy"], meaning["strategy_settings"]
     else:
         found["strategy_version"] = strategy_version(config)
+    del meaning["representation"], meaning["representation_settings"]
+    if _is_ge_representation(config):  # GE's settings, where they always were: keys of the config
+        meaning.update(config.representation_settings)
+    else:
+        meaning["representation"] = config.representation
+        meaning["representation_settings"] = dict(config.representation_settings)
+        found["representation_version"] = representation_version(config.representation)
     return found
 
 
 def _is_plain_ge(config: RunConfig) -> bool:
     return config.strategy == "ge" and not config.strategy_settings
+
+
+def _is_ge_representation(config: RunConfig) -> bool:
+    return config.representation == DEFAULT_REPRESENTATION
 
 
 def strategy_version(config: RunConfig) -> str:
@@ -191,6 +203,9 @@ class RunDirectory:
         if not _is_plain_ge(pipeline.config):
             manifest["strategy"] = pipeline.config.strategy
             manifest["strategy_version"] = strategy_version(pipeline.config)
+        if not _is_ge_representation(pipeline.config):
+            manifest["representation"] = pipeline.config.representation
+            manifest["representation_version"] = representation_version(pipeline.config.representation)
         try:
             with created_directory(path) as building:
                 write_atomically(building / GRAMMAR, grammar_text)
@@ -256,6 +271,19 @@ class RunDirectory:
                 f"{path}: strategy {pipeline.config.strategy!r} has changed since the run started (run: "
                 f"{saved_strategy}; installed: {strategy_version(pipeline.config)}), so the run would "
                 "continue differently; finish it with the versions it started with, or start a new run"
+            )
+        saved_representation = manifest.get("representation_version")
+        installed_representation = (
+            None
+            if _is_ge_representation(pipeline.config)
+            else representation_version(pipeline.config.representation)
+        )
+        if saved_representation is not None and saved_representation != installed_representation:
+            raise RunDirectoryError(
+                f"{path}: representation {pipeline.config.representation!r} has changed since the run "
+                f"started (run: {saved_representation}; installed: {installed_representation}), so its "
+                "genomes could map or vary differently; finish it with the versions it started with, or "
+                "start a new run"
             )
         computed = fingerprint(pipeline, defines)
         earlier = fingerprint(pipeline, defines, with_runs=True)

@@ -16,7 +16,7 @@ from gaitgram.backends.api import Evaluation
 from gaitgram.evolution.rundir import RunDirectory, best_of_runs, best_walk_of_runs
 from gaitgram.pipeline import Genome, Individual, Pipeline
 
-__all__ = ["SelectedGait", "SelectionError", "from_pipeline", "from_run", "score"]
+__all__ = ["SelectedGait", "SelectionError", "from_pipeline", "from_run", "judged", "score"]
 
 
 @dataclass(frozen=True)
@@ -74,6 +74,12 @@ def score(chosen: SelectedGait, horizon: int | None = None) -> Individual:
     finally:
         evaluator.close()
     return scored
+
+
+def judged(chosen: SelectedGait) -> Evaluation:
+    """What the run recorded for the gait (its best, or best walk, where it kept it), else its
+    score now, as a run keeps a gait: what its backend's verdict is read from."""
+    return chosen.recorded if chosen.recorded is not None else score(chosen).evaluation
 
 
 def _reached(generation: int | None, last: int, subject: str, *, planned: bool = False) -> int:

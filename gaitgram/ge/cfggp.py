@@ -22,19 +22,20 @@ from __future__ import annotations
 
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
 
 from gaitgram.analysis.cfg import Cfg
 from gaitgram.ge.initialisation import ramped_population
-from gaitgram.ge.mapper import MapperError
+from gaitgram.ge.registry import RepresentationSpec, Setting, check_fields
 from gaitgram.ge.representation import (
     GenomeError,
     GrammarTables,
     Layout,
     MappedGenome,
+    Plugged,
     decode_sequence,
     grammar_tables,
     grow_subtree,
@@ -46,7 +47,7 @@ from gaitgram.ge.representation import (
 )
 from gaitgram.language.model import Grammar
 
-__all__ = ["CFGGP", "CFGGPSettings", "Tree", "compile_cfggp"]
+__all__ = ["CFGGP", "REPRESENTATION", "CFGGPSettings", "Tree", "compile_cfggp"]
 
 #: A derivation tree: its choices in pre-order.
 Tree = tuple[int, ...]
@@ -66,14 +67,20 @@ class CFGGPSettings:
     retries: int = 100
 
     def __post_init__(self) -> None:
-        for key in ("max_depth", "retries"):
-            value = getattr(self, key)
-            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise MapperError(f"cfg-gp: {key} must be an integer >= 1, not {value!r}")
-        for key in ("crossover", "mutation", "grow_probability"):
-            value = getattr(self, key)
-            if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value <= 1:
-                raise MapperError(f"cfg-gp: {key} must be a probability in [0, 1], not {value!r}")
+        check_fields("cfg-gp", SETTINGS, self)
+
+
+_DEFAULTS = {f.name: f.default for f in fields(CFGGPSettings)}
+#: CFG-GP's settings as a run declares them (``[representation_settings]``), the dataclass's defaults.
+SETTINGS = (
+    Setting(
+        "max_depth", _DEFAULTS["max_depth"], "deepest rule node of any tree (Whigham's MAX-TREE-DEPTH)", 1
+    ),
+    Setting("crossover", _DEFAULTS["crossover"], "probability that a pair of parents is crossed", 0.0, 1.0),
+    Setting("mutation", _DEFAULTS["mutation"], "probability that a child has a subtree regrown", 0.0, 1.0),
+    Setting("grow_probability", _DEFAULTS["grow_probability"], "share of initial trees grown", 0.0, 1.0),
+    Setting("retries", _DEFAULTS["retries"], "crossover attempts within max_depth", 1),
+)
 
 
 def compile_cfggp(
@@ -87,6 +94,8 @@ class CFGGP:
     """CFG-GP over one grammar's tables. Immutable; genomes are tuples of choices in pre-order."""
 
     name = "cfg-gp"
+    #: What ``used`` counts: the nodes the mapping read.
+    counts = "nodes"
 
     def __init__(self, tables: GrammarTables, settings: CFGGPSettings) -> None:
         self.tables = tables
@@ -114,6 +123,10 @@ class CFGGP:
                 )
             results.append(result(tables, out, depth, nodes, nodes, reason, marks))
         return results
+
+    def choices(self, genome: Tree) -> list[int]:
+        """The derivation's choices in pre-order: the genome itself."""
+        return list(genome)
 
     def layout(self, genome: Tree) -> Layout:
         """Each node's rule, depth and subtree end (:class:`~gaitgram.ge.representation.Layout`)."""
@@ -286,3 +299,17 @@ def _swapped_depth(into: Layout, at: int, source: Layout, at_source: int) -> int
     outside = max(max(into.depths[:at], default=0), max(into.depths[into.ends[at] :], default=0))
     height = max(source.depths[at_source : source.ends[at_source]]) - source.depths[at_source]
     return max(outside, into.depths[at] + height)
+
+
+REPRESENTATION = RepresentationSpec(
+    name="cfg-gp",
+    summary="CFG-GP: the derivation tree is the genome (Whigham 1995), ramped half-and-half, subtree "
+    "crossover and mutation within max_depth.",
+    settings=SETTINGS,
+    compile=lambda grammar, facts, settings: Plugged(
+        compile_cfggp(grammar, CFGGPSettings(**settings)), grammar, settings
+    ),
+    genome_syntax="<e>0(<e>1(<v>0) <o>1 <e>1(<v>1))",
+    version="cfg-gp r1",
+    source="Whigham 1995, and alogos' cfggp for what the paper leaves open",
+)

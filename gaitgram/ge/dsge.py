@@ -33,18 +33,19 @@ and 5, are 18 and 6).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
 
 from gaitgram.analysis.cfg import Cfg
 from gaitgram.ge.initialisation import InitialisationError
-from gaitgram.ge.mapper import MapperError
+from gaitgram.ge.registry import RepresentationSpec, Setting, check_fields
 from gaitgram.ge.representation import (
     UNLIMITED,
     GrammarTables,
     MappedGenome,
+    Plugged,
     check_choices,
     check_genes,
     decode_genes,
@@ -56,7 +57,7 @@ from gaitgram.ge.representation import (
 )
 from gaitgram.language.model import Grammar
 
-__all__ = ["DSGE", "DSGESettings", "Genes", "compile_dsge"]
+__all__ = ["DSGE", "REPRESENTATION", "DSGESettings", "Genes", "compile_dsge"]
 
 Genes = tuple[tuple[int, ...], ...]
 
@@ -75,14 +76,26 @@ class DSGESettings:
     retries: int = 100
 
     def __post_init__(self) -> None:
-        for key in ("max_depth", "init_depth", "retries"):
-            value = getattr(self, key)
-            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise MapperError(f"dsge: {key} must be an integer >= 1, not {value!r}")
-        for key in ("crossover", "mutation"):
-            value = getattr(self, key)
-            if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value <= 1:
-                raise MapperError(f"dsge: {key} must be a probability in [0, 1], not {value!r}")
+        check_fields("dsge", SETTINGS, self)
+
+
+_DEFAULTS = {f.name: f.default for f in fields(DSGESettings)}
+#: DSGE's settings as a run declares them (``[representation_settings]``), the dataclass's defaults.
+SETTINGS = (
+    Setting(
+        "max_depth", _DEFAULTS["max_depth"], "deepest rule node of any tree (sge3's MAX_TREE_DEPTH + 1)", 1
+    ),
+    Setting(
+        "init_depth",
+        _DEFAULTS["init_depth"],
+        "initialisation takes any choice down to this depth, "
+        "shortest-path ones below (sge3's MIN_TREE_DEPTH + 1)",
+        1,
+    ),
+    Setting("crossover", _DEFAULTS["crossover"], "probability that a child crosses two parents", 0.0, 1.0),
+    Setting("mutation", _DEFAULTS["mutation"], "probability that each used value changes", 0.0, 1.0),
+    Setting("retries", _DEFAULTS["retries"], "attempts at a child within max_depth", 1),
+)
 
 
 def compile_dsge(
@@ -96,6 +109,8 @@ class DSGE:
     """DSGE over one grammar's tables. Immutable; genomes are tuples of tuples."""
 
     name = "dsge"
+    #: What ``used`` counts: the values the mapping read.
+    counts = "values"
 
     def __init__(self, tables: GrammarTables, settings: DSGESettings) -> None:
         self.tables = tables
@@ -139,6 +154,28 @@ class DSGE:
             nodes = sum(read)
             results.append(result(tables, out, depth, nodes, nodes, reason, marks))
         return results
+
+    def choices(self, genome: Genes) -> list[int]:
+        """The derivation's choices in pre-order, up to where a gene runs out."""
+        children = self.tables.children
+        cursor = [0] * len(genome)
+        found: list[int] = []
+        pending = [self.tables.start]
+        while pending:
+            rule = pending.pop()
+            at = cursor[rule]
+            if at >= len(genome[rule]) or not children[rule]:
+                break
+            choice = genome[rule][at]
+            cursor[rule] = at + 1
+            found.append(choice)
+            pending.extend(reversed(children[rule][choice]))
+        return found
+
+    def tables_json(self) -> dict[str, Any]:
+        """What ``gaitgram compile`` adds to the grammar's tables: each rule's shortest-path choices,
+        which completion takes past ``max_depth``."""
+        return {"shortest": [list(choices) for choices in self.shortest]}
 
     def used_per_gene(self, genome: Genes) -> tuple[list[int], int, bool]:
         """How many values of each gene the mapping reads, the tree's depth, and whether it is complete."""
@@ -267,3 +304,26 @@ class DSGE:
         genome = json_genes(value, self.genes)
         check_choices(genome, self._n, self.genes)
         return genome
+
+
+def describe_rule(cfg: Cfg, rule: int) -> str | None:
+    """Where a rule's values lie in a DSGE genome."""
+    return (
+        f"DSGE: gene {rule} of {len(cfg)}, a value per expansion of `<{cfg.names[rule]}>`, grown as "
+        "the derivation needs"
+    )
+
+
+REPRESENTATION = RepresentationSpec(
+    name="dsge",
+    summary="Dynamic structured GE: one gene of choices per rule, grown as needed, shortest-path "
+    "choices past max_depth (sge3), uniform-mask crossover and per-value mutation.",
+    settings=SETTINGS,
+    compile=lambda grammar, facts, settings: Plugged(
+        compile_dsge(grammar, DSGESettings(**settings)), grammar, settings
+    ),
+    genome_syntax="[[0], [2, 1], [], [0, 1, 1]]",
+    version="dsge r1",
+    describe_rule=describe_rule,
+    source="Lourenço's sge3 (nunolourenco/sge3) and alogos' DSGE vectors (tests/data/representations)",
+)

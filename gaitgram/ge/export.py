@@ -26,7 +26,7 @@ def mapper_tables(grammar: Grammar, options: MappingOptions, cfg: Cfg | None = N
     rule (``range``) and a name no rule defines (``undefined``, no choices).
     """
     cfg = cfg or build_cfg(grammar)
-    kinds = {RuleKind.DEFINED: "defined", RuleKind.RANGE: "range", RuleKind.UNDEFINED: "undefined"}
+    rules = grammar_tables_json(grammar, cfg)
     return {
         "format": FORMAT,
         "version": FORMAT_VERSION,
@@ -37,17 +37,31 @@ def mapper_tables(grammar: Grammar, options: MappingOptions, cfg: Cfg | None = N
             "max_wraps": options.max_wraps,
             "max_depth": options.max_depth,
         },
+        **rules,
+    }
+
+
+def grammar_tables_json(grammar: Grammar, cfg: Cfg) -> dict[str, Any]:
+    """The grammar's rule tables as every representation's compiled tables hold them: the start
+    rule, each rule's kind and choices, and each joint's rule."""
+    kinds = {RuleKind.DEFINED: "defined", RuleKind.RANGE: "range", RuleKind.UNDEFINED: "undefined"}
+    return {
         "start": cfg.start,
         "rules": [
             {
                 "name": name,
                 "kind": kinds[kind],
-                "choices": [[{"rule": i} if isinstance(i, int) else {"text": i} for i in c] for c in choices],
+                "choices": [choice_json(c) for c in choices],
             }
             for name, kind, choices in zip(cfg.names, cfg.kinds, cfg.choices, strict=True)
         ],
         "joints": {joint.joint: cfg.index[joint.rule] for joint in grammar.joints if joint.rule in cfg.index},
     }
+
+
+def choice_json(items: tuple[Any, ...]) -> list[dict[str, Any]]:
+    """A choice's items as the table format writes them: ``{"rule": index}`` or ``{"text": terminal}``."""
+    return [{"rule": i} if isinstance(i, int) else {"text": i} for i in items]
 
 
 def to_json(grammar: Grammar, options: MappingOptions) -> str:

@@ -13,11 +13,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import StrEnum
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from gaitgram.analysis.facts import GrammarFacts
 from gaitgram.ge.mapper import CodonMode
+
+if TYPE_CHECKING:  # a generator is passed in: GE's plug-in loads without numpy (``gaitgram map``)
+    import numpy as np
 
 #: PonyGE2's default codon size: codons are drawn from [0, CODON_SIZE).
 CODON_SIZE = 100_000

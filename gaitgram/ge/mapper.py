@@ -94,6 +94,11 @@ class Mapped(NamedTuple):
     def valid(self) -> bool:
         return self.reason is None
 
+    @property
+    def used(self) -> int:
+        """What the mapping read, as every representation's result names it."""
+        return self.used_codons
+
 
 class _Mark(str):
     """An empty terminal marking where a joint rule's subtree opens or closes.

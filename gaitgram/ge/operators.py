@@ -14,17 +14,18 @@ import numpy as np
 
 from gaitgram.ge.initialisation import CODON_SIZE
 
-Genome = tuple[int, ...]
+#: A GE genome: its codons.
+Codons = tuple[int, ...]
 
 
 def one_point_crossover(
-    first: Genome,
-    second: Genome,
+    first: Codons,
+    second: Codons,
     rng: np.random.Generator,
     *,
     fixed_point: bool = True,
     used: tuple[int, int] | None = None,
-) -> tuple[Genome, Genome]:
+) -> tuple[Codons, Codons]:
     """Swap the tails of two genomes after a cut point.
 
     ``fixed_point`` cuts both at the same index (GEVA's fixed one-point, the
@@ -46,13 +47,13 @@ def one_point_crossover(
 
 
 def int_flip_mutation(
-    genome: Genome,
+    genome: Codons,
     rng: np.random.Generator,
     *,
     probability: float,
     codon_size: int = CODON_SIZE,
     used: int | None = None,
-) -> Genome:
+) -> Codons:
     """Replace each codon, with ``probability``, by a uniform random one (within ``used`` if given)."""
     span = len(genome) if used is None else min(used, len(genome))
     if span == 0:

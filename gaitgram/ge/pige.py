@@ -27,7 +27,7 @@ length-preserving crossover needs genomes of one length, which sensible initiali
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from itertools import cycle, islice
 from typing import Any, Literal
 
@@ -39,11 +39,13 @@ from gaitgram.ge.derivation import InvalidReason
 from gaitgram.ge.initialisation import CODON_SIZE, ramped_population
 from gaitgram.ge.mapper import MapperError
 from gaitgram.ge.operators import int_flip_mutation, one_point_crossover
+from gaitgram.ge.registry import RepresentationSpec, Setting, check_fields
 from gaitgram.ge.representation import (
     UNLIMITED,
     GenomeError,
     GrammarTables,
     MappedGenome,
+    Plugged,
     grammar_tables,
     json_ints,
     layout,
@@ -51,7 +53,7 @@ from gaitgram.ge.representation import (
 )
 from gaitgram.language.model import Grammar
 
-__all__ = ["PiGE", "PiGESettings", "StackMode", "compile_pige"]
+__all__ = ["REPRESENTATION", "PiGE", "PiGESettings", "StackMode", "compile_pige"]
 
 Codons = tuple[int, ...]
 StackMode = Literal["inplace", "end", "start"]
@@ -81,24 +83,54 @@ class PiGESettings:
     tail: float = 0.5
 
     def __post_init__(self) -> None:
-        if self.stack not in STACK_MODES:
-            raise MapperError(f"pige: stack must be one of {', '.join(STACK_MODES)}, not {self.stack!r}")
-        for key, low in (("max_wraps", 0), ("max_expansions", 1), ("max_depth", 1), ("codon_size", 2)):
-            value = getattr(self, key)
-            if value is None and key != "codon_size":
-                continue
-            if isinstance(value, bool) or not isinstance(value, int) or value < low:
-                raise MapperError(f"pige: {key} must be an integer >= {low}, not {value!r}")
+        check_fields("pige", SETTINGS, self)
         if self.max_wraps is None and self.max_expansions is None:
             raise MapperError(
                 "pige: max_wraps and max_expansions cannot both be None (a mapping could run forever)"
             )
-        for key in ("crossover", "mutation", "grow_probability"):
-            value = getattr(self, key)
-            if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value <= 1:
-                raise MapperError(f"pige: {key} must be a probability in [0, 1], not {value!r}")
-        if isinstance(self.tail, bool) or not isinstance(self.tail, int | float) or self.tail < 0:
-            raise MapperError(f"pige: tail must be a number >= 0, not {self.tail!r}")
+
+
+_DEFAULTS = {f.name: f.default for f in fields(PiGESettings)}
+#: πGE's settings as a run declares them (``[representation_settings]``), the dataclass's defaults.
+SETTINGS = (
+    Setting(
+        "stack",
+        _DEFAULTS["stack"],
+        "where an expanded rule's children join the open rules",
+        choices=STACK_MODES,
+    ),
+    Setting(
+        "max_wraps",
+        _DEFAULTS["max_wraps"],
+        "W wraps allow W + 1 passes over the genome",
+        0,
+        optional=True,
+        kind=int,
+    ),
+    Setting(
+        "max_expansions",
+        _DEFAULTS["max_expansions"],
+        "most expansions a derivation may take",
+        1,
+        optional=True,
+        kind=int,
+    ),
+    Setting(
+        "max_depth",
+        _DEFAULTS["max_depth"],
+        "deepest rule node of a valid genome (initial trees: 10 if none)",
+        1,
+        optional=True,
+        kind=int,
+    ),
+    Setting("codon_size", _DEFAULTS["codon_size"], "codons are drawn from [0, codon_size)", 2),
+    Setting("crossover", _DEFAULTS["crossover"], "probability that a pair of parents is crossed", 0.0, 1.0),
+    Setting("fixed_point", _DEFAULTS["fixed_point"], "one cut point for both parents"),
+    Setting("crossover_within_used", _DEFAULTS["crossover_within_used"], "cut within the codons used"),
+    Setting("mutation", _DEFAULTS["mutation"], "probability that each codon is replaced", 0.0, 1.0),
+    Setting("grow_probability", _DEFAULTS["grow_probability"], "share of initial trees grown", 0.0, 1.0),
+    Setting("tail", _DEFAULTS["tail"], "random codons after an initial tree's, as a share of them", 0.0),
+)
 
 
 def compile_pige(
@@ -134,6 +166,8 @@ class PiGE:
     """πGE over one grammar's tables. Immutable; genomes are tuples of codons."""
 
     name = "pige"
+    #: What ``used`` counts: the codons the mapping read.
+    counts = "codons"
 
     def __init__(self, tables: GrammarTables, settings: PiGESettings) -> None:
         self.tables = tables
@@ -285,6 +319,29 @@ class PiGE:
             pending.extend(range(first + m - 1, first - 1, -1))
         return found
 
+    def choices(self, genome: Codons) -> list[int]:
+        """The derivation's choices in pre-order (for its tree), up to its first node left
+        unexpanded. Each node's choice is found by its text's maker (``_fill``), which is one
+        object per choice: a leaf whose text two choices share is given the first."""
+        expansion = self.expand(genome)
+        internal = {node: (first, m, fill) for node, m, fill, first in expansion.log}
+        found: list[int] = []
+        pending = [(0, self.tables.start)]
+        while pending:
+            node, rule = pending.pop()
+            options = self._fills[rule]
+            if node in internal:
+                first, m, fill = internal[node]
+                choice = next(c for c, entry in enumerate(options) if entry[2] is fill)
+                pending.extend((first + j, options[choice][0][j]) for j in range(m - 1, -1, -1))
+            else:
+                text = expansion.nodes[node]
+                if not isinstance(text, str):
+                    break  # never expanded: the derivation stopped before it
+                choice = next(c for c, entry in enumerate(options) if not entry[1] and entry[2] is text)
+            found.append(choice)
+        return found
+
     def sentential_form(self, genome: Codons) -> str:
         """The derivation as far as it got: terminals, and ``<rule>`` for each rule not expanded
         (a complete derivation gives the phenotype). The 2004 paper's example stops part way."""
@@ -408,3 +465,18 @@ def _fill(items: tuple[Any, ...]) -> Any:
         at = next(j for j, i in enumerate(items) if isinstance(i, int))
         return "".join(items[:at]), "".join(items[at + 1 :])
     return "".join("%s" if isinstance(i, int) else i.replace("%", "%%") for i in items)
+
+
+REPRESENTATION = RepresentationSpec(
+    name="pige",
+    summary="Position-independent GE: an order codon picks which open rule to expand, a content codon "
+    "its choice (stack mode as the published examples), GE's initialisation and variation.",
+    settings=SETTINGS,
+    compile=lambda grammar, facts, settings: Plugged(
+        compile_pige(grammar, PiGESettings(**settings)), grammar, settings
+    ),
+    genome_syntax="12,7,301,4",
+    version="pige r1",
+    source="O'Neill et al. 2004; alogos' pige (stack modes), checked against the published worked "
+    "examples (tests/data/representations)",
+)

@@ -25,11 +25,14 @@ from typing import Any, NamedTuple, Protocol, TypeVar
 
 import numpy as np
 
+from gaitgram import __version__
 from gaitgram.analysis.cfg import Cfg, Item
 from gaitgram.analysis.facts import GrammarFacts, min_depths, occurrence_bounds, reachable_from
-from gaitgram.ge.derivation import InvalidReason
+from gaitgram.ge.derivation import Derivation, InvalidReason
+from gaitgram.ge.export import grammar_tables_json
 from gaitgram.ge.initialisation import Method, _pick
 from gaitgram.ge.mapper import CodonMode, Mapper, MapperError, compile_mapper
+from gaitgram.ge.registry import GenomeError
 from gaitgram.language.model import Grammar
 
 __all__ = [
@@ -68,11 +71,6 @@ class MappedGenome(NamedTuple):
     @property
     def valid(self) -> bool:
         return self.reason is None
-
-
-class GenomeError(ValueError):
-    """A genome this representation cannot hold: malformed text or JSON, the wrong number of
-    genes, a value that names no choice of its rule. The message says where and what to write."""
 
 
 class Representation(Protocol[G]):
@@ -569,3 +567,69 @@ def check_choices(genome: Sequence[Sequence[int]], n_choices: Sequence[int], gen
                 raise GenomeError(
                     f"gene {g} (<{genes[g]}>), value {i}: {v} is not a choice of the rule; {has}"
                 )
+
+
+# ---- as a plug-in ---------------------------------------------------------------------------------
+
+
+class Plugged:
+    """One of this module's representations as the registry's compiled representation
+    (:class:`gaitgram.ge.registry.Compiled`): the typed API above, and what runs and commands
+    need beside it (a count of children from tournament winners, the derivation tree, the tables).
+
+    ``representation`` offers :class:`Representation`'s methods and ``choices(genome)``: the
+    derivation's choices in pre-order in the grammar as written, as far as it got."""
+
+    def __init__(self, representation: Any, grammar: Grammar, settings: Mapping[str, Any]) -> None:
+        self.representation = representation
+        self.name: str = representation.name
+        self.counts: str = representation.counts
+        self.grammar = grammar
+        self.settings = dict(settings)
+        self.map_many = representation.map_many
+        self.encode = representation.encode
+        self.decode = representation.decode
+        self.to_json = representation.to_json
+        self.from_json = representation.from_json
+
+    def __repr__(self) -> str:
+        return f"Plugged({self.representation!r})"
+
+    def initialise(self, rng: np.random.Generator, n: int) -> list[Any]:
+        return list(self.representation.initialise(rng, n))
+
+    def vary(self, rng: np.random.Generator, parents: Sequence[Any], count: int) -> list[Any]:
+        """The representation's variation of the parents' genomes (its own pairing), the first
+        ``count`` children."""
+        return list(self.representation.vary(rng, [p.genome for p in parents]))[:count]
+
+    def derivation(self, genome: Any) -> Derivation:
+        """The tree of the genome's derivation in the grammar as written (each node numbered in
+        pre-order and labelled with its choice), with this representation's summary: what it used,
+        why it is invalid."""
+        mapped = self.representation.map(genome)
+        tables: GrammarTables = self.representation.tables
+        tree = tables.base.map(self.representation.choices(genome) or [0])
+        reads_codons = self.counts == "codons" and len(genome) > 0
+        tree.used_codons, tree.wraps = (
+            mapped.used,
+            max(mapped.used - 1, 0) // len(genome) if reads_codons else 0,
+        )
+        tree.genome_length = len(genome) if reads_codons else 0
+        if not mapped.valid:
+            tree.phenotype, tree.joints, tree.reason = None, {}, mapped.reason
+        return tree
+
+    def tables(self) -> dict[str, Any]:
+        tables: GrammarTables = self.representation.tables
+        extra = getattr(self.representation, "tables_json", None)
+        return {
+            "format": "gaitgram-representation",
+            "version": 1,
+            "generator": f"gaitgram {__version__}",
+            "source": self.grammar.source.name,
+            "representation": self.name,
+            "settings": self.settings,
+            **grammar_tables_json(self.grammar, tables.cfg),
+            **(extra() if extra is not None else {}),
+        }

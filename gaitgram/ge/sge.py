@@ -33,20 +33,24 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
 
 from gaitgram.analysis.cfg import Cfg, Item, RuleKind
 from gaitgram.analysis.facts import min_depths, reachable_from
+from gaitgram.ge.export import choice_json
 from gaitgram.ge.initialisation import InitialisationError
 from gaitgram.ge.mapper import MapperError, _join_terminals
+from gaitgram.ge.registry import RepresentationSpec, Setting, check_fields
 from gaitgram.ge.representation import (
     UNLIMITED,
     GenomeError,
     GrammarTables,
     MappedGenome,
+    Plugged,
     check_choices,
     check_genes,
     decode_genes,
@@ -58,7 +62,7 @@ from gaitgram.ge.representation import (
 )
 from gaitgram.language.model import Grammar
 
-__all__ = ["SGE", "SGESettings", "compile_sge"]
+__all__ = ["REPRESENTATION", "SGE", "SGESettings", "compile_sge"]
 
 #: The most values a genome may hold, and the most alternatives a last-level rule may get: SGE's
 #: genes grow exponentially with the recursion level, and on some grammars past any memory
@@ -85,17 +89,20 @@ class SGESettings:
     retries: int = 100
 
     def __post_init__(self) -> None:
-        for key in ("recursion", "max_depth", "retries"):
-            value = getattr(self, key)
-            low = 0 if key == "recursion" else 1
-            if key == "max_depth" and value is None:
-                continue
-            if isinstance(value, bool) or not isinstance(value, int) or value < low:
-                raise MapperError(f"sge: {key} must be an integer >= {low}, not {value!r}")
-        for key in ("crossover", "mutation"):
-            value = getattr(self, key)
-            if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value <= 1:
-                raise MapperError(f"sge: {key} must be a probability in [0, 1], not {value!r}")
+        check_fields("sge", SETTINGS, self)
+
+
+_DEFAULTS = {f.name: f.default for f in fields(SGESettings)}
+#: SGE's settings as a run declares them (``[representation_settings]``), the dataclass's defaults.
+SETTINGS = (
+    Setting("recursion", _DEFAULTS["recursion"], "recursion level of the unrolled grammar", 0),
+    Setting("crossover", _DEFAULTS["crossover"], "probability that a child crosses two parents", 0.0, 1.0),
+    Setting("mutation", _DEFAULTS["mutation"], "probability that each gene has a value changed", 0.0, 1.0),
+    Setting(
+        "max_depth", _DEFAULTS["max_depth"], "deepest rule node of a valid genome", 1, optional=True, kind=int
+    ),
+    Setting("retries", _DEFAULTS["retries"], "attempts at a child within max_depth", 1),
+)
 
 
 def compile_sge(
@@ -120,6 +127,9 @@ class Unrolled:
     genes: int
     #: Values per gene (the reference's ``count_references_to_non_terminals``).
     sizes: tuple[int, ...]
+    #: Per entry and choice, the choice of the grammar's rule it stands for (a derivation tree in
+    #: the grammar as written; not read by the mapping).
+    origin_choice: tuple[tuple[int, ...], ...] = ()
 
     def as_cfg(self, start: int) -> Cfg:
         kinds = tuple(RuleKind.DEFINED if c else RuleKind.UNDEFINED for c in self.choices)
@@ -142,6 +152,7 @@ def unroll(cfg: Cfg, start: int, level: int) -> Unrolled:
         origin.extend([r] * (level + 1))
     genes = len(names)
     choices: list[tuple[tuple[Item, ...], ...]] = [()] * genes
+    origin_choice: list[tuple[int, ...]] = [()] * genes
     inlined: dict[tuple[int, int], int] = {}
 
     def version(rule: int, k: int) -> int:  # k = -1: the top level
@@ -154,11 +165,13 @@ def unroll(cfg: Cfg, start: int, level: int) -> Unrolled:
             names.append(f"{cfg.names[rule]}/{choice}")
             origin.append(rule)
             choices.append((cfg.choices[rule][choice],))  # its references are all top level
+            origin_choice.append((choice,))
         return found
 
     for r in range(n):
         if not component[r]:
             choices[r] = cfg.choices[r]
+            origin_choice[r] = tuple(range(len(cfg.choices[r])))
             continue
         for k in range(-1, level + 1):
             inside = component[r]
@@ -167,9 +180,11 @@ def unroll(cfg: Cfg, start: int, level: int) -> Unrolled:
                     tuple(version(i, k + 1) if isinstance(i, int) and i in inside else i for i in choice)
                     for choice in cfg.choices[r]
                 )
+                origins = tuple(range(len(rule_choices)))
             else:
                 last: list[tuple[Item, ...]] = []
-                for choice in cfg.choices[r]:
+                last_origin: list[int] = []
+                for written, choice in enumerate(cfg.choices[r]):
                     slots = [j for j, i in enumerate(choice) if isinstance(i, int) and i in inside]
                     plain = [
                         [
@@ -191,12 +206,14 @@ def unroll(cfg: Cfg, start: int, level: int) -> Unrolled:
                         for j, c in zip(slots, picks, strict=True):
                             items[j] = inline(choice[j], c)  # type: ignore[arg-type]
                         last.append(tuple(items))
-                rule_choices = tuple(last)
+                        last_origin.append(written)
+                rule_choices, origins = tuple(last), tuple(last_origin)
             choices[version(r, k)] = rule_choices
+            origin_choice[version(r, k)] = origins
     # A last level whose every alternative was dropped cannot be expanded (a derivation reaching it
     # is invalid, as at an undefined rule): it needs no values.
     sizes = tuple(size if choices[e] else 0 for e, size in enumerate(_sizes(choices, genes, start)))
-    return Unrolled(tuple(names), tuple(origin), tuple(choices), genes, sizes)
+    return Unrolled(tuple(names), tuple(origin), tuple(choices), genes, sizes, tuple(origin_choice))
 
 
 def _sizes(choices: Sequence[Sequence[tuple[Item, ...]]], genes: int, start: int) -> tuple[int, ...]:
@@ -248,6 +265,8 @@ class SGE:
     """SGE over one grammar's unrolled tables. Immutable; genomes are tuples of tuples."""
 
     name = "sge"
+    #: What ``used`` counts: the values the mapping read.
+    counts = "values"
 
     def __init__(self, tables: GrammarTables, settings: SGESettings) -> None:
         self.tables = tables
@@ -308,6 +327,42 @@ class SGE:
             nodes = sum(read)
             results.append(result(tables, out, depth, nodes, nodes - sum(read[genes:]), reason, marks))
         return results
+
+    def choices(self, genome: Genes) -> list[int]:
+        """The derivation's choices in pre-order in the grammar as written (each entry of the
+        unrolled grammar stands for one node of it), up to where a gene runs out."""
+        unrolled, genes = self.unrolled, genome + self._inlined
+        cursor = [0] * len(genes)
+        found: list[int] = []
+        pending = [self.tables.start]
+        while pending:
+            entry = pending.pop()
+            at = cursor[entry]
+            if at >= len(genes[entry]) or not unrolled.choices[entry]:
+                break
+            choice = genes[entry][at]
+            cursor[entry] = at + 1
+            found.append(unrolled.origin_choice[entry][choice])
+            pending.extend(i for i in reversed(unrolled.choices[entry][choice]) if isinstance(i, int))
+        return found
+
+    def tables_json(self) -> dict[str, Any]:
+        """The genes for ``gaitgram compile``: each entry of the unrolled grammar with a gene, the rule
+        it stands for, its size and its choices (a rule item is an entry: one of the genes, or an
+        alternative inlined at the last level, listed after them with its one choice)."""
+        unrolled = self.unrolled
+        return {
+            "genes": [
+                {
+                    "name": unrolled.names[e],
+                    "rule": unrolled.origin[e],
+                    "values": unrolled.sizes[e] if e < unrolled.genes else 0,
+                    "choices": [choice_json(c) for c in unrolled.choices[e]],
+                }
+                for e in range(len(unrolled.names))
+            ],
+            "gene_count": unrolled.genes,
+        }
 
     def used_per_gene(self, genome: Genes) -> list[int]:
         """How many values of each gene the mapping reads (the reference's ``mapping_values``)."""
@@ -424,3 +479,45 @@ class SGE:
 
     def from_json(self, value: Any) -> Genes:
         return self._checked(json_genes(value, self.genes))
+
+
+@lru_cache(maxsize=8)
+def _unrolled(cfg: Cfg, level: int) -> Unrolled | None:
+    """A grammar's unrolled tables for the editor (None: too large to unroll)."""
+    try:
+        unrolled = unroll(cfg, cfg.start, level) if cfg.start is not None else None
+    except MapperError:
+        return None
+    return unrolled if unrolled is not None and sum(unrolled.sizes) <= MAX_VALUES else None
+
+
+def describe_rule(cfg: Cfg, rule: int) -> str | None:
+    """Where a rule's values lie in an SGE genome at the default recursion level."""
+    level = _DEFAULTS["recursion"]
+    unrolled = _unrolled(cfg, level)
+    if unrolled is None:
+        return f"SGE: at recursion level {level} this grammar's genome is too large to hold"
+    genes = [e for e in range(unrolled.genes) if unrolled.origin[e] == rule and unrolled.sizes[e]]
+    if not genes:
+        return f"SGE: no gene (no derivation at recursion level {level} expands it)"
+    listed = ", ".join(f"{e} `<{unrolled.names[e]}>` ({unrolled.sizes[e]:,})" for e in genes)
+    return (
+        f"SGE (recursion level {level}): gene{'s' if len(genes) > 1 else ''} {listed} of {unrolled.genes}, "
+        "values in brackets: the most expansions each can take"
+    )
+
+
+REPRESENTATION = RepresentationSpec(
+    name="sge",
+    summary="Structured GE: the grammar unrolled to a recursion level, one gene of choices per rule "
+    "(Lourenço, Pereira and Costa 2016), uniform-mask crossover and per-gene mutation.",
+    settings=SETTINGS,
+    compile=lambda grammar, facts, settings: Plugged(
+        compile_sge(grammar, SGESettings(**settings)), grammar, settings
+    ),
+    genome_syntax="[[0], [2, 1], [], [0, 1, 1]]",
+    version="sge r1",
+    describe_rule=describe_rule,
+    source="Lourenço's original SGE (nunolourenco/sge), run here on the bundled and PonyGE2 grammars "
+    "(tests/data/representations)",
+)

@@ -40,9 +40,18 @@ import numpy as np
 
 from gaitgram.backends.api import GaitStatus
 from gaitgram.ge.operators import elite
-from gaitgram.pipeline import Individual, Pipeline
+from gaitgram.pipeline import Genome, Individual, Pipeline
 
-Genome = tuple[int, ...]
+__all__ = [
+    "GenerationStats",
+    "Genome",
+    "RunContext",
+    "RunState",
+    "Strategy",
+    "StrategyError",
+    "elites_of",
+    "generation_stats",
+]
 
 
 @dataclass(frozen=True)

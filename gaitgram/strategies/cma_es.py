@@ -151,4 +151,5 @@ STRATEGY = StrategySpec(
     load=CmaEs,
     check=check,
     version=f"cma-es r{REVISION}; {library_version('cma')}",
+    representations=frozenset({"ge"}),
 )

@@ -1,5 +1,5 @@
-"""What several strategies share: GE's initialisation and variation, the budget, carried elites,
-settings checks."""
+"""What several strategies share: the representation's initialisation, GE's variation (for the
+strategies that search GE's codons), the budget, carried elites, settings checks."""
 
 from __future__ import annotations
 
@@ -12,27 +12,19 @@ import numpy as np
 
 from gaitgram.backends.api import SettingsError
 from gaitgram.evolution.config import RunConfig
-from gaitgram.ge.initialisation import ramped_population
-from gaitgram.ge.mapper import Mapper
-from gaitgram.ge.operators import Genome, int_flip_mutation, one_point_crossover
-from gaitgram.pipeline import Individual, Pipeline
+from gaitgram.ge.classic import Variation
+from gaitgram.pipeline import Genome, Individual, Pipeline
 from gaitgram.strategies.api import RunContext, RunState, Strategy, StrategyError, elites_of
+
+#: GE's crossover and mutation with a run's settings, under the name ``nsga2`` and ``map-elites``
+#: pickled it by (their pickled state holds one).
+GEVariation = Variation
 
 
 def initial_genomes(pipeline: Pipeline, rng: np.random.Generator, size: int) -> list[Genome]:
-    """``size`` genomes of random trees, as GE initialises (RampedFullGrow, Table 1)."""
-    config = pipeline.config
-    trees = ramped_population(
-        pipeline.facts,
-        rng,
-        size,
-        max_depth=config.init_max_depth,
-        grow_probability=config.grow_probability,
-        codons=config.codons,
-        codon_size=config.codon_size,
-        tail=config.tail,
-    )
-    return [t.genome for t in trees]
+    """``size`` genomes of a first generation, as the run's representation initialises them
+    (GE: RampedFullGrow, Table 1)."""
+    return pipeline.representation.initialise(rng, size)
 
 
 def batch_size(config: RunConfig, generation: int) -> int:
@@ -92,54 +84,6 @@ def component(individual: Individual, name: str) -> float:
             f"the backend reports no component {name!r} for a viable gait; it reports: {known}"
         )
     return float(value)
-
-
-class GEVariation:
-    """GE's crossover and mutation with a run's settings (Table 1), for strategies that vary
-    genomes. The mapper, needed to know the codons a genome uses, is attached for each generation
-    and never pickled."""
-
-    def __init__(self, config: RunConfig) -> None:
-        self.crossover = config.crossover
-        self.fixed_point = config.fixed_point
-        self.crossover_within_used = config.crossover_within_used
-        self.mutation = config.mutation
-        self.mutation_within_used = config.mutation_within_used
-        self.codon_size = config.codon_size
-        self.mapper: Mapper | None = None
-
-    def __getstate__(self) -> dict[str, Any]:
-        return {**self.__dict__, "mapper": None}
-
-    def _used(self, genomes: Sequence[Genome]) -> list[int]:
-        if self.mapper is None:
-            raise RuntimeError("GEVariation.mapper is not attached")
-        return [m.used_codons for m in self.mapper.map_many(genomes)]
-
-    def cross(
-        self,
-        first: Genome,
-        second: Genome,
-        rng: np.random.Generator,
-        used: tuple[int, int] | None = None,
-    ) -> tuple[Genome, Genome]:
-        """One-point crossover of two parents (whether to cross at all is the caller's draw);
-        ``used``, the codons each parent's mapping reads, when the caller knows them."""
-        if not self.crossover_within_used:
-            used = None
-        elif used is None:
-            used = tuple(self._used([first, second]))  # type: ignore[assignment]
-        return one_point_crossover(first, second, rng, fixed_point=self.fixed_point, used=used)
-
-    def mutate(self, genomes: Sequence[Genome], rng: np.random.Generator) -> list[Genome]:
-        """Int-flip mutation of each genome (within the codons it uses, if the run says so)."""
-        used: Sequence[int | None] = (
-            self._used(genomes) if self.mutation_within_used else [None] * len(genomes)
-        )
-        return [
-            int_flip_mutation(g, rng, probability=self.mutation, codon_size=self.codon_size, used=u)
-            for g, u in zip(genomes, used, strict=True)
-        ]
 
 
 # ---- settings -----------------------------------------------------------------------------------

@@ -1,9 +1,10 @@
-"""``ge``: the paper's grammatical evolution (Table 1), the one place GE's generation is written.
+"""``ge``: the paper's evolutionary loop (Table 1), the one place its generation is written, over
+any representation.
 
-Ask gives the offspring of tournament selection, one-point crossover and
-int-flip mutation (after the elites when their scores are stale); tell keeps
-the elites and the offspring. All randomness is the run's ``rng``, so a GE run
-is what it always was, checkpoint for checkpoint.
+Ask gives the offspring of tournament selection and the representation's variation (GE's:
+one-point crossover and int-flip mutation; SGE's, DSGE's, CFG-GP's own), after the elites when
+their scores are stale; tell keeps the elites and the offspring. All randomness is the run's
+``rng``, so a GE run is what it always was, checkpoint for checkpoint.
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ from __future__ import annotations
 from gaitgram.ge.operators import tournament
 from gaitgram.pipeline import Pipeline
 from gaitgram.strategies.api import Genome, RunContext, RunState
-from gaitgram.strategies.common import Elitist, GEVariation, initial_genomes, no_settings, with_elites
+from gaitgram.strategies.common import Elitist, initial_genomes, no_settings, with_elites
 from gaitgram.strategies.registry import StrategySpec
 
 
@@ -25,31 +26,23 @@ class GrammaticalEvolution(Elitist):
 
 
 def offspring(state: RunState, pipeline: Pipeline) -> list[Genome]:
-    """GE's offspring: tournaments, one-point crossover and int-flip mutation, all from the run's
-    ``rng``; after the elites when their scores are stale (``with_elites``)."""
+    """The offspring: tournaments, then the representation's variation of the winners (paired in
+    order), all from the run's ``rng``; after the elites when their scores are stale
+    (``with_elites``)."""
     config = pipeline.config
     rng, population = state.rng, state.population
-    variation = GEVariation(config)
-    variation.mapper = pipeline.mapper
     n_offspring = config.population - config.elite
     parents = tournament(
         [i.fitness for i in population], rng, size=config.tournament, count=n_offspring + n_offspring % 2
     )
-    children: list[Genome] = []
-    for a, b in zip(parents[::2], parents[1::2], strict=True):
-        first, second = population[a], population[b]
-        if rng.random() < config.crossover:
-            children += variation.cross(
-                first.genome, second.genome, rng, used=(first.used_codons, second.used_codons)
-            )
-        else:
-            children += [first.genome, second.genome]
-    return with_elites(state, pipeline, variation.mutate(children[:n_offspring], rng))
+    children = pipeline.representation.vary(rng, [population[i] for i in parents], n_offspring)
+    return with_elites(state, pipeline, children)
 
 
 STRATEGY = StrategySpec(
     name="ge",
-    summary="Grammatical evolution: tournaments, one-point crossover, int-flip mutation, elitism.",
+    summary="Grammatical evolution: tournaments, the representation's variation (GE's one-point "
+    "crossover and int-flip mutation), elitism.",
     load=GrammaticalEvolution,
     check=no_settings("ge"),
     takes_start=True,

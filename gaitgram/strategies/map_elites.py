@@ -92,7 +92,7 @@ class MapElites(Strategy):
             seed=context.integer_seed(1),
             extra_fields={"individual": ((), object)},
         )
-        variation = GEVariation(config)
+        variation = GEVariation(config.representation_settings)
         emitter = GenomeEmitter(
             archive,
             initial=initial_genomes(pipeline, rng, config.population),
@@ -113,7 +113,7 @@ class MapElites(Strategy):
         memory: ArchiveMemory = state.memory
         pipeline = context.pipeline
         (emitter,) = memory.scheduler.emitters
-        memory.variation.mapper = pipeline.mapper
+        memory.variation.mapper = pipeline.representation.mapper  # type: ignore[attr-defined]
         emitter.draw = lambda generator, n: initial_genomes(pipeline, generator, n)
         try:
             return list(memory.scheduler.ask())
@@ -259,4 +259,5 @@ STRATEGY = StrategySpec(
     load=MapElites,
     check=check,
     version=f"map-elites r{REVISION}; {library_version('ribs')}",
+    representations=frozenset({"ge"}),
 )

@@ -71,7 +71,7 @@ class Nsga2(Strategy):
 
         config = context.pipeline.config
         objectives = tuple(context.settings["objectives"])
-        variation = GEVariation(config)
+        variation = GEVariation(config.representation_settings)
         problem = GenomeProblem(len(objectives))
         algorithm = NSGA2(
             pop_size=config.population,
@@ -100,7 +100,7 @@ class Nsga2(Strategy):
 
     def ask(self, context: RunContext, state: RunState) -> list[Genome]:
         memory: NsgaMemory = state.memory
-        memory.variation.mapper = context.pipeline.mapper
+        memory.variation.mapper = context.pipeline.representation.mapper  # type: ignore[attr-defined]
         try:
             memory.pending = memory.algorithm.ask()
         finally:
@@ -212,4 +212,5 @@ STRATEGY = StrategySpec(
     load=Nsga2,
     check=check,
     version=f"nsga2 r{REVISION}; {library_version('pymoo')}",
+    representations=frozenset({"ge"}),
 )

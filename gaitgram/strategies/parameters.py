@@ -69,7 +69,7 @@ def parameter_space(pipeline: Pipeline, strategy: str = "cma-es") -> ParameterSp
     """The parameter vector of ``pipeline``'s grammar; :class:`StrategyError` if it has none."""
     grammar = pipeline.grammar
     cfg = pipeline.facts.cfg
-    eager = pipeline.config.codons is CodonMode.EAGER
+    eager = pipeline.config.representation_settings["codons"] == CodonMode.EAGER
     if cfg.start is None:
         raise StrategyError("the grammar has no start rule")
     sizes: list[int] = []

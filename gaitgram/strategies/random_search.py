@@ -1,9 +1,9 @@
-"""``random``: random search at GE's budget, genomes drawn as GE's initialisation draws them.
+"""``random``: random search at GE's budget, genomes drawn as the representation initialises them.
 
-Generation 0 is GE's initial population (the same seed gives the same one);
-every later generation draws ``population - elite`` fresh ramped trees and
-keeps the best ``elite`` found so far, so the two differ only in GE's
-variation and selection: the baseline that tells whether they help.
+Generation 0 is the ``ge`` strategy's initial population (the same seed gives the same one);
+every later generation draws ``population - elite`` fresh genomes (GE: ramped trees) and keeps
+the best ``elite`` found so far, so the two differ only in variation and selection: the baseline
+that tells whether they help.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ class RandomSearch(Elitist):
 
 STRATEGY = StrategySpec(
     name="random",
-    summary="Random search: fresh random trees every generation at GE's budget, the best kept.",
+    summary="Random search: fresh random genomes every generation at GE's budget, the best kept.",
     load=RandomSearch,
     check=no_settings("random"),
 )

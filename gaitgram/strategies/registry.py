@@ -52,6 +52,8 @@ class StrategySpec:
       its library's release); a run is not resumed under another.
     * ``takes_start`` says that the strategy's first generation can be another run's final
       population (``start_from``, :attr:`RunContext.start`), not only its own random trees.
+    * ``representations`` names the representations whose genomes it can search (None: any, through
+      the representation's own initialisation and variation); a run of another is refused.
     """
 
     name: str
@@ -60,6 +62,7 @@ class StrategySpec:
     check: Callable[[Pipeline], Mapping[str, Any]] | None = None
     version: str = ""
     takes_start: bool = False
+    representations: frozenset[str] | None = None
 
 
 class StrategyNotFound(PluginNotFound):
@@ -97,6 +100,15 @@ def load_strategy(pipeline: Pipeline) -> Strategy:
     return get_strategy(pipeline.config.strategy).load()
 
 
+def _searches(name: str, representation: str) -> bool:
+    """Whether the installed strategy ``name`` searches ``representation``'s genomes."""
+    try:
+        declared = get_strategy(name).representations
+    except (StrategyNotFound, StrategyLoadError):
+        return False
+    return declared is None or representation in declared
+
+
 def run_pipeline(checked: CheckResult, config: RunConfig) -> Pipeline:
     """The pipeline of a run: :meth:`Pipeline.build`, then the run's strategy checked against it
     (it can search this grammar and configuration) and its settings normalised, defaults spelt
@@ -108,6 +120,15 @@ def run_pipeline(checked: CheckResult, config: RunConfig) -> Pipeline:
         raise PipelineError(f"strategy: {error}", key="strategy") from None
     except StrategyLoadError as error:
         raise PipelineError(str(error)) from None
+    if strategy.representations is not None and config.representation not in strategy.representations:
+        able = [n for n in strategy_names() if _searches(n, config.representation)]
+        raise PipelineError(
+            f"strategy: {config.strategy} searches {' and '.join(sorted(strategy.representations))} genomes "
+            f"only (it varies their codons itself), not {config.representation}'s; search "
+            f"{config.representation} with {', '.join(able) or 'no installed strategy'}, or drop "
+            f"representation = {config.representation!r}",
+            key="strategy",
+        )
     if config.start_from is not None and not strategy.takes_start:
         starters = [name for name in strategy_names() if get_strategy(name).takes_start]
         raise PipelineError(

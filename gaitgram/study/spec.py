@@ -13,16 +13,20 @@ A study file is TOML::
     name = "hybrid"
     grammar = "../grammars/hybrid.gg"   # paths are relative to the study file
     strategy = "ge"                     # the search strategy (default ge; docs/strategies.md)
+    representation = "sge"              # what a genome is (default ge; docs/ge.md)
     config = "weights.toml"             # optional: this arm's own run.toml
     defines = { n = 5 }                 # optional: GE_RANGE values
     [arm.settings]                      # optional: keys for this arm only
     elite = 5
     [arm.settings.strategy_settings]    # optional: the strategy's own settings
+    [arm.settings.representation_settings]  # optional: the representation's own settings
 
 A run configuration is resolved per arm in this order, each over the last:
 defaults, the study's ``config`` file, the study's ``[settings]``, the arm's
 ``config`` file, the arm's ``[settings]``, then the command line's scale-down
-flags (``--runs``, ``--generations``, ``--population``).
+flags (``--runs``, ``--generations``, ``--population``) and ``--representation``, which
+gives every arm that representation (an arm's representation settings are kept where it
+already had it).
 
 Everything is checked here, before anything is written: every key as a
 run.toml's is, every arm's grammar, backend settings and strategy settings by
@@ -48,10 +52,12 @@ from gaitgram.evolution.config import (
     ConfigError,
     RunConfig,
     config_from_mapping,
+    ge_setting_names,
     read_toml,
 )
 from gaitgram.evolution.rundir import build_pipeline
 from gaitgram.evolution.transfer import TransferError, start_genomes
+from gaitgram.ge.registry import DEFAULT_REPRESENTATION, representation_names
 from gaitgram.language import parse
 from gaitgram.language.edits import apply_edits
 from gaitgram.language.ranges import MAX_RANGE_VALUES
@@ -61,7 +67,7 @@ from gaitgram.strategies.registry import strategy_names
 from gaitgram.tomlplaces import key_location
 
 STUDY_KEYS = ("title", "runs", "seed", "config", "settings", "arm")
-ARM_KEYS = ("name", "grammar", "strategy", "config", "settings", "defines")
+ARM_KEYS = ("name", "grammar", "strategy", "representation", "config", "settings", "defines")
 #: An arm's name names its directory: matched whole (``fullmatch``: ``$`` would let "a\n" through).
 ARM_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
 MAX_RUNS = 10_000
@@ -100,6 +106,8 @@ class ScaleDown:
     runs: int | None = None
     generations: int | None = None
     population: int | None = None
+    #: ``--representation``: every arm's representation (not a scale, but as much the command line's).
+    representation: str | None = None
 
     @property
     def flags(self) -> str:
@@ -195,6 +203,8 @@ def _located(sources: list[_Source], label: str, path: Path) -> Callable[[str], 
             value = source.values.get(first)
             if (isinstance(value, Mapping) and rest[0] in value) if rest else first in source.values:
                 return f"{source.locate(key)}: {label}"
+        if first == "representation_settings" and rest and rest[0] in ge_setting_names():
+            return locate(rest[0])  # GE's setting, where older files write it: at the top level
         return f"{path}: {label}"
 
     return locate
@@ -240,14 +250,8 @@ def _arm(
     grammar = data.get("grammar")
     if not isinstance(grammar, str) or not grammar:
         raise StudyError(f"{at('grammar')}: grammar: give the grammar file, relative to the study file")
-    strategy = data.get("strategy")
-    if strategy is not None and strategy not in strategy_names():
-        close = difflib.get_close_matches(str(strategy), strategy_names(), n=1)
-        hint = f"did you mean {close[0]}? " if close else ""
-        raise StudyError(
-            f"{at('strategy')}: strategy: {strategy!r} is not an installed strategy; {hint}"
-            f"installed: {', '.join(strategy_names())}"
-        )
+    strategy = _installed(data.get("strategy"), "strategy", strategy_names(), at)
+    representation = _installed(data.get("representation"), "representation", representation_names(), at)
     defines = data.get("defines", {})
     if not isinstance(defines, Mapping) or not all(
         isinstance(v, int) and not isinstance(v, bool) for v in defines.values()
@@ -275,9 +279,18 @@ def _arm(
             f"{at('strategy')}: strategy is {strategy!r}, but the arm's settings say {own['strategy']!r}; "
             "give it once"
         )
+    if representation is not None and own.get("representation", representation) != representation:
+        raise StudyError(
+            f"{at('representation')}: representation is {representation!r}, but the arm's settings say "
+            f"{own['representation']!r}; give it once"
+        )
     values = _merged({"seed": seed}, sources[3].values, sources[2].values, own)
     if strategy is not None:
         values["strategy"] = strategy
+    if representation is not None:
+        values["representation"] = representation
+    if scale.representation is not None:
+        _represent(values, scale.representation, f"--representation {scale.representation} on arm {name!r}")
     values["runs"] = runs
     grammar_path = base / grammar
     try:
@@ -300,6 +313,34 @@ def _arm(
         except TransferError as error:
             raise StudyError(f"{where}: {label}: {error}") from None
     return Arm(name, grammar_path, config.strategy, config, dict(defines), pipeline)
+
+
+def _installed(name: Any, kind: str, installed: tuple[str, ...], at: Callable[[str], str]) -> str | None:
+    """An arm's strategy or representation: one installed, else a "did you mean"."""
+    if name is None or name in installed:
+        return name
+    close = difflib.get_close_matches(str(name), installed, n=1)
+    hint = f"did you mean {close[0]}? " if close else ""
+    raise StudyError(
+        f"{at(kind)}: {kind}: {name!r} is not an installed {kind}; {hint}installed: {', '.join(installed)}"
+    )
+
+
+def _represent(values: dict[str, Any], representation: str, blame: str) -> None:
+    """``--representation``: the arm's configuration with ``representation``; its representation
+    settings (GE's also where older files write them, at the top level) kept only if they are that
+    representation's."""
+    if representation not in representation_names():
+        close = difflib.get_close_matches(representation, representation_names(), n=1)
+        hint = f"did you mean {close[0]}? " if close else ""
+        raise StudyError(
+            f"{blame}: not an installed representation; {hint}installed: {', '.join(representation_names())}"
+        )
+    if values.get("representation", DEFAULT_REPRESENTATION) != representation:
+        values.pop("representation_settings", None)
+        for key in ge_setting_names():
+            values.pop(key, None)
+    values["representation"] = representation
 
 
 def _build(

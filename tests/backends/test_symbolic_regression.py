@@ -343,17 +343,18 @@ def test_the_benchmark_gives_both_tools_the_same_settings() -> None:
         assert int(flags["--generations"]) == config.generations
         assert int(flags["--elite_size"]) == config.elite
         assert int(flags["--tournament_size"]) == config.tournament
-        assert float(flags["--crossover_probability"]) == config.crossover
-        assert float(flags["--mutation_probability"]) == config.mutation
-        assert int(flags["--codon_size"]) == config.codon_size
-        assert int(flags["--max_wraps"]) == config.max_wraps == 0
-        assert int(flags["--max_tree_depth"]) - 1 == config.max_depth
-        assert int(flags["--max_init_tree_depth"]) - 1 == config.init_max_depth
-        assert (flags["--crossover"], config.fixed_point, config.crossover_within_used) == (
+        ge = config.representation_settings
+        assert float(flags["--crossover_probability"]) == ge["crossover"]
+        assert float(flags["--mutation_probability"]) == ge["mutation"]
+        assert int(flags["--codon_size"]) == ge["codon_size"]
+        assert int(flags["--max_wraps"]) == ge["max_wraps"] == 0
+        assert int(flags["--max_tree_depth"]) - 1 == ge["max_depth"]
+        assert int(flags["--max_init_tree_depth"]) - 1 == ge["init_max_depth"]
+        assert (flags["--crossover"], ge["fixed_point"], ge["crossover_within_used"]) == (
             "variable_onepoint",
             False,
             True,
         )
-        assert config.mutation_within_used
-        assert config.codons.value == "eager"
+        assert ge["mutation_within_used"]
+        assert ge["codons"] == "eager"
         assert flags["--grammar_file"] == problem.grammar

@@ -63,7 +63,12 @@ def evolve(tmp_path: Path, config: RunConfig, run_dir: str = "run"):
 
 
 def test_evolution_finds_a_reachable_target(tmp_path: Path) -> None:
-    state = evolve(tmp_path, RunConfig(generations=100, population=60, elite=4, init_max_depth=6, seed=3))
+    state = evolve(
+        tmp_path,
+        RunConfig(
+            generations=100, population=60, elite=4, representation_settings={"init_max_depth": 6}, seed=3
+        ),
+    )
     first, last = state.history[0], state.history[-1]
     assert first.best > 1.0
     assert last.best < 1e-9  # found exactly
@@ -71,10 +76,18 @@ def test_evolution_finds_a_reachable_target(tmp_path: Path) -> None:
 
 
 def test_same_seed_same_run_different_seed_different_run(tmp_path: Path) -> None:
-    config = RunConfig(generations=6, population=20, elite=2, init_max_depth=6, seed=5)
+    config = RunConfig(
+        generations=6, population=20, elite=2, representation_settings={"init_max_depth": 6}, seed=5
+    )
     a = evolve(tmp_path, config, "a")
     b = evolve(tmp_path, config, "b")
-    c = evolve(tmp_path, RunConfig(generations=6, population=20, elite=2, init_max_depth=6, seed=6), "c")
+    c = evolve(
+        tmp_path,
+        RunConfig(
+            generations=6, population=20, elite=2, representation_settings={"init_max_depth": 6}, seed=6
+        ),
+        "c",
+    )
     assert (tmp_path / "a" / "stats.csv").read_text() == (tmp_path / "b" / "stats.csv").read_text()
     assert [i.genome for i in a.population] == [i.genome for i in b.population]
     assert [i.genome for i in a.population] != [i.genome for i in c.population]
@@ -198,7 +211,14 @@ def session(tmp_path: Path, name: str, *, resume: bool = False, stop_after: tupl
     if resume:
         directory = RunDirectory.open(path)
     else:
-        config = RunConfig(generations=12, population=20, elite=2, init_max_depth=6, seed=4, runs=2)
+        config = RunConfig(
+            generations=12,
+            population=20,
+            elite=2,
+            representation_settings={"init_max_depth": 6},
+            seed=4,
+            runs=2,
+        )
         directory = RunDirectory.create(path, pipeline(config), defines={}, origin="g.gg")
     recorded: list[tuple[int, int]] = []
     states = run_session(

@@ -147,11 +147,12 @@ def test_resume_keeps_the_runs_defines_and_refuses_others(tmp_path: Path) -> Non
     assert "--define other=1, but the run has not defined" in extra.stderr
 
 
-def test_an_old_run_directory_without_a_manifest_is_refused(finished_run: Path) -> None:
+def test_a_run_directory_without_its_manifest_is_refused(finished_run: Path) -> None:
     (finished_run / "manifest.json").unlink()
     result = evolve("--resume", str(finished_run))
     assert result.exit_code == 2
-    assert "kept no manifest" in result.stderr
+    assert "its manifest.json is missing, deleted or lost" in result.stderr
+    assert "start a new run with another --out" in result.stderr
 
 
 # ---- configuration checked before anything runs --------------------------------------------
@@ -389,11 +390,13 @@ def test_mutation_within_used_leaves_the_unused_tail_alone() -> None:
     config = RunConfig(
         population=20,
         elite=0,
-        crossover=0.0,
-        mutation=1.0,
-        mutation_within_used=True,
-        init_max_depth=6,
-        tail=3.0,
+        representation_settings={
+            "crossover": 0.0,
+            "mutation": 1.0,
+            "mutation_within_used": True,
+            "init_max_depth": 6,
+            "tail": 3.0,
+        },
         backend="curve-match",
         backend_settings={"targets": TARGETS},
     )
@@ -404,12 +407,13 @@ def test_mutation_within_used_leaves_the_unused_tail_alone() -> None:
         strategy, context = GrammaticalEvolution(), run_context(pipeline, 0)
         state = begin(strategy, context, evaluator)
         after = advance(strategy, context, state, evaluator)
-        return {i.genome[i.used_codons :] for i in state.population}, after.population
+        return {i.genome[i.used :] for i in state.population}, after.population
 
     parents, children = tails_after_one_generation(config)
-    assert all(c.genome[c.used_codons :] in parents for c in children)  # tails came unchanged
-    parents, children = tails_after_one_generation(replace(config, mutation_within_used=False))
-    assert any(c.genome[c.used_codons :] not in parents for c in children)
+    assert all(c.genome[c.used :] in parents for c in children)  # tails came unchanged
+    unmasked = {**config.representation_settings, "mutation_within_used": False}
+    parents, children = tails_after_one_generation(replace(config, representation_settings=unmasked))
+    assert any(c.genome[c.used :] not in parents for c in children)
 
 
 # ---- failures are messages with exit codes -------------------------------------------------

@@ -25,7 +25,11 @@ from gaitgram.strategies.registry import run_pipeline
 runner = CliRunner()
 SINE_WALK = Path(__file__).resolve().parents[2] / "grammars" / "sine-walk.gg"
 MUJOCO = RunConfig(
-    generations=2, population=8, elite=1, init_max_depth=6, backend_settings={"cycles": 1, "threads": 1}
+    generations=2,
+    population=8,
+    elite=1,
+    representation_settings={"init_max_depth": 6},
+    backend_settings={"cycles": 1, "threads": 1},
 )
 
 
@@ -131,7 +135,13 @@ def test_a_damaged_record_is_refused_by_the_report_naming_it(
     assert "Traceback" not in made.stderr
 
 
-CURVE = RunConfig(generations=4, population=10, elite=1, init_max_depth=6, backend="curve-match")
+CURVE = RunConfig(
+    generations=4,
+    population=10,
+    elite=1,
+    representation_settings={"init_max_depth": 6},
+    backend="curve-match",
+)
 
 
 def _curve_directory(path: Path) -> RunDirectory:

@@ -57,7 +57,7 @@ def build(strategy: str, **changes: Any) -> Pipeline:
         generations=12,
         population=24,
         elite=2,
-        init_max_depth=6,
+        representation_settings={"init_max_depth": 6},
         seed=1,
         backend="curve-match",
         backend_settings={"targets": TARGETS},

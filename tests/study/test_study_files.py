@@ -237,7 +237,7 @@ def test_an_error_in_an_arms_config_file_names_that_files_line(tmp_path: Path) -
         'grammar = "g.gg"\n[arm.settings]', 'grammar = "g.gg"\nconfig = "arm.toml"\n[arm.settings]'
     )
     error = refused(tmp_path, text)
-    assert "arm.toml:3:1: arm 'mutant': crossover: must be in [0, 1], not 1.5" in error
+    assert "arm.toml:3:1: arm 'mutant': crossover: must be a probability in [0, 1], not 1.5" in error
 
 
 def test_an_arms_backend_settings_add_to_the_studys_and_its_strategy_settings_replace_them(

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hypothesis import find, given, settings
 from typer.testing import CliRunner
@@ -124,6 +125,17 @@ def test_motion_compiler_on_generated_curves(curves) -> None:
     assert len(curves) == 12
     for values in curves.values():
         assert values.shape == (128,)
+
+
+@settings(max_examples=20)
+@given(curves=motions(load(GRAMMARS / "hybrid-feedback.gg"), max_depth=12))
+def test_closed_loop_curves_are_sampled_with_the_backends_sensors(curves) -> None:
+    """The feedback grammar's curves read the horse's sensors: each is its nominal curve (sensors
+    at rest), finite as ``gaitgram test`` checks it, never NaN for want of the sensors."""
+    assert curves
+    for joint, values in curves.items():
+        assert values.shape == (128,)
+        assert np.isfinite(values).all(), joint
 
 
 @settings(max_examples=30)

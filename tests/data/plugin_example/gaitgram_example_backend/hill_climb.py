@@ -27,10 +27,9 @@ class HillClimb(Strategy):
             return initial_genomes(context.pipeline, state.rng, config.population)
         parents = elites_of(state.population, config.elite)
         rate = context.settings["rate"]
+        size = config.representation_settings["codon_size"]  # GE's, spelt out when the run was built
         return [
-            int_flip_mutation(
-                parents[k % len(parents)].genome, state.rng, probability=rate, codon_size=config.codon_size
-            )
+            int_flip_mutation(parents[k % len(parents)].genome, state.rng, probability=rate, codon_size=size)
             for k in range(config.population - config.elite)
         ]
 
@@ -60,4 +59,5 @@ STRATEGY = StrategySpec(
     load=HillClimb,
     check=check,
     version="hill-climb r1",
+    representations=frozenset({"ge"}),  # it flips codons: GE's genomes only
 )
