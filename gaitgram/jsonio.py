@@ -5,7 +5,9 @@ Python's :func:`json.dumps` writes non-finite floats as bare ``NaN`` and
 non-finite number in gaitgram's output means "no value" (an average over no
 viable gait, say), so it is written as ``null``; ``allow_nan=False`` then
 guarantees that nothing else slipped through. Read back (:func:`loads`), a
-non-finite number is therefore an edit or damage, refused wherever it is.
+non-finite number is therefore an edit or damage, refused wherever it is. Every record gaitgram
+keeps in a file is one JSON object, read back by :func:`read_object`, which says what is wrong
+with a file that holds none.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Mapping
+from pathlib import Path
 from typing import Any
 
 
@@ -57,6 +60,49 @@ def loads(text: str | bytes) -> Any:
         raise NonFinite(
             f"{where}: {literal} is not a finite number" if where else f"{literal} is not a finite number"
         )
+    return data
+
+
+class ObjectError(ValueError):
+    """A file (or line) that holds no JSON object as gaitgram writes one: ``where`` names it,
+    ``problem`` says what is wrong. ``damaged``: it is there but was edited or damaged (not text,
+    not JSON, a non-finite number, no object); ``missing``: it is not there. Each reader adds what
+    to do, which only it knows."""
+
+    def __init__(self, where: str, problem: str, *, damaged: bool = False, missing: bool = False) -> None:
+        super().__init__(f"{where} is missing" if missing else f"{where}: {problem}")
+        self.where = where
+        self.problem = problem
+        self.damaged = damaged
+        self.missing = missing
+
+
+def read_object(path: Path, what: str = "a JSON object") -> dict[str, Any]:
+    """The JSON object the UTF-8 file ``path`` holds, read as :func:`loads` reads; otherwise
+    :class:`ObjectError` ("PATH: not WHAT" where it holds other JSON)."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ObjectError(str(path), "missing", missing=True) from None
+    except UnicodeDecodeError as error:
+        raise ObjectError(str(path), f"not UTF-8 text: {error}", damaged=True) from None
+    except OSError as error:
+        reason = error.strerror or str(error)  # "Is a directory", to read as part of a sentence
+        raise ObjectError(str(path), f"cannot read it: {reason[:1].lower()}{reason[1:]}") from None
+    return object_from(text, str(path), what)
+
+
+def object_from(text: str | bytes, where: str, what: str = "a JSON object") -> dict[str, Any]:
+    """The JSON object ``text`` (a file's, or a line's, named ``where``) holds; otherwise a damaged
+    :class:`ObjectError`."""
+    try:
+        data = loads(text)
+    except NonFinite as error:
+        raise ObjectError(where, str(error), damaged=True) from None
+    except ValueError as error:  # not JSON, or bytes that are not UTF-8
+        raise ObjectError(where, f"not JSON: {error}", damaged=True) from None
+    if not isinstance(data, dict):
+        raise ObjectError(where, f"not {what}", damaged=True)
     return data
 
 

@@ -285,3 +285,62 @@ def test_the_name_check_sees_strings_but_not_docstrings() -> None:
     spelt = spelt_names("gaitgram.pipeline", tree, {"mujoco-horse"})
     assert spelt == [("mujoco-horse", 5), ("mujoco-horse", 5)]
     assert len(spelt_names("gaitgram.study.gallery", tree, {"mujoco-horse"})) == 3  # no default there
+
+
+#: What run and study directories keep, named in ``gaitgram.runlayout`` alone (docs/architecture.md:
+#: each fact in one place), so that no reader looks for a file under a name its writer no longer uses.
+LAYOUT = "gaitgram.runlayout"
+LAYOUT_NAMES = {
+    "manifest.json",
+    "grammar.gg",
+    "config.toml",
+    "summary.json",
+    "checkpoint.json",
+    "stats.jsonl",
+    "stats.csv",
+    "best.json",
+    "backend.json",
+    "front.json",
+    "archive.json",
+    "assessment.json",
+    "study.json",
+    "run-NNN",
+    "run-[",
+}
+#: Files of other directories that share a name with a run directory's: a report's summary.
+OTHER_LAYOUTS = {("gaitgram.study.formats", "summary.json")}
+
+
+def run_names_spelt(module: str, tree: ast.Module) -> list[tuple[str, int]]:
+    """Each name of :data:`LAYOUT_NAMES` a module spells outside its docstrings, and each run
+    directory's name it builds (a string, or an f-string's text, that is or ends in ``run-``)."""
+    spelt = spelt_names(module, tree, LAYOUT_NAMES)
+    found = [(name, line) for name, line in spelt if (module, name) not in OTHER_LAYOUTS]
+    skipped = _docstrings(tree)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in skipped:
+            found += [("run-", node.lineno)] if node.value.endswith("run-") else []
+    return found
+
+
+def test_the_run_directory_layout_is_spelt_in_one_module() -> None:
+    modules = module_files()
+    spelt = [
+        f"{module} ({path.relative_to(ROOT)}:{line}) spells {name!r}"
+        for module, path in sorted(modules.items())
+        if module != LAYOUT
+        for name, line in run_names_spelt(module, ast.parse(path.read_text()))
+    ]
+    assert not spelt, f"run directories' names spelt outside {LAYOUT}:\n" + "\n".join(spelt)
+    layout = ast.parse(modules[LAYOUT].read_text())
+    assert {name for name, _ in run_names_spelt(LAYOUT, layout)} >= LAYOUT_NAMES - {"run-["}
+
+
+def test_the_layout_check_sees_names_and_run_directories() -> None:
+    tree = ast.parse(
+        '"""Reads best.json."""\n'
+        "def f(path, run):\n"
+        '    """Writes stats.csv."""\n'
+        '    return path / f"run-{run:03d}" / "best.json", path.glob("run-[0-9][0-9][0-9]")\n'
+    )
+    assert sorted(run_names_spelt("gaitgram.x", tree)) == [("best.json", 4), ("run-", 4), ("run-[", 4)]

@@ -10,6 +10,7 @@ from typing import Annotated
 import typer
 
 from gaitgram.cli.common import check_output, err, fail, interrupted, mend_outputs, require_extra
+from gaitgram.runlayout import ASSESSMENT, in_run
 from gaitgram.study.gallery import GalleryError
 from gaitgram.study.records import ReportError
 from gaitgram.study.report import HTML, ReportInterrupted, make_report, watch_report
@@ -38,7 +39,7 @@ _Assess = Annotated[
         "--assess",
         help="First measure each run's best gait beside the real walks and under disturbances "
         "where not yet measured (if the runs' backend measures gaits; simulation, kept in "
-        "run-NNN/assessment.json of the "
+        f"{in_run(ASSESSMENT)} of the "
         "run directories; reports read it from there).",
     ),
 ]

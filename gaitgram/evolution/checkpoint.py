@@ -100,26 +100,21 @@ def load_checkpoint(
     ``fingerprint`` may name several: the run's, and what the same run was fingerprinted as before
     (``RunDirectory.fingerprints``)."""
     try:
-        data = jsonio.loads(path.read_text(encoding="utf-8"))
-    except jsonio.NonFinite as error:
-        raise CheckpointError(
-            f"{path}: corrupt checkpoint: {error}; it cannot be resumed (restore it from a backup, or "
-            "start the run again)"
-        ) from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise CheckpointError(f"{path}: cannot read the checkpoint: {error}") from None
-    except json.JSONDecodeError as error:
-        raise CheckpointError(f"{path}: corrupt checkpoint (not JSON: {error})") from None
+        data = jsonio.read_object(path, "a gaitgram checkpoint")
+    except jsonio.ObjectError as error:
+        if error.damaged:
+            raise CheckpointError(f"{path}: corrupt checkpoint: {error.problem}; {_RESTORE}") from None
+        raise CheckpointError(str(error)) from None
     try:
         state = _checked_state(data, pipeline, fingerprint, run)
         if with_memory:
             state.memory = _memory(data["checkpoint"].get("strategy_state"), path.parent)
         return state
     except _Corrupt as problem:
-        raise CheckpointError(
-            f"{path}: corrupt checkpoint: {problem}; it cannot be resumed (restore it from a backup, "
-            "or start the run again)"
-        ) from None
+        raise CheckpointError(f"{path}: corrupt checkpoint: {problem}; {_RESTORE}") from None
+
+
+_RESTORE = "it cannot be resumed (restore it from a backup, or start the run again)"
 
 
 def refingerprint_checkpoint(
@@ -129,7 +124,7 @@ def refingerprint_checkpoint(
     ``to``, all else as it was. A growing run directory renames its runs this way, without their
     strategies' pickled memory: a finished run's is not needed, and a committed study has none."""
     load_checkpoint(path, pipeline, fingerprint=fingerprint, run=run, with_memory=False)
-    content = json.loads(path.read_text(encoding="utf-8"))["checkpoint"]
+    content = jsonio.read_object(path)["checkpoint"]
     if content["fingerprint"] != to:
         content["fingerprint"] = to
         write_atomically(path, jsonio.dumps({"digest": _digest(content), "checkpoint": content}))

@@ -30,6 +30,7 @@ from gaitgram.evolution.usage import (
 )
 from gaitgram.fileio import write_atomically
 from gaitgram.pipeline import Genome, Individual, Pipeline
+from gaitgram.runlayout import CHECKPOINT
 from gaitgram.strategies.api import (
     GenerationStats,
     RunContext,
@@ -176,7 +177,7 @@ def run_evolution(
     config = pipeline.config
     strategy = load_strategy(pipeline)
     context = replace(run_context(pipeline, run), start=tuple(start))
-    checkpoint = run_dir / "checkpoint.json"
+    checkpoint = run_dir / CHECKPOINT
     meter = metered(evaluator)  # what each generation spends in the backend, kept in backend.json
     spent: list[GenerationUsage] = []
 

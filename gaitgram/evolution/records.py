@@ -17,6 +17,7 @@ from gaitgram.ge.visualise import ascii_tree
 from gaitgram.language.model import FREQUENCY
 from gaitgram.motion.gait import motion_batch
 from gaitgram.pipeline import Individual, Pipeline
+from gaitgram.runlayout import BEST, STATS_CSV, STATS_JSONL
 from gaitgram.strategies.api import RunState
 
 
@@ -78,9 +79,9 @@ def run_records(pipeline: Pipeline, state: RunState) -> dict[str, str]:
     """The files a run's state gives (name -> text), in the order they are written."""
     records = [jsonio.finite_or_none(s.as_record()) for s in state.history]
     return {
-        "stats.csv": stats_csv(records),
-        "stats.jsonl": "".join(jsonio.dumps(r) + "\n" for r in records),
-        "best.json": record_text(best_record(pipeline, state)),
+        STATS_CSV: stats_csv(records),
+        STATS_JSONL: "".join(jsonio.dumps(r) + "\n" for r in records),
+        BEST: record_text(best_record(pipeline, state)),
     }
 
 

@@ -1,19 +1,6 @@
 """Run directories: everything needed to rebuild a run's pipeline exactly, and proof it is unchanged.
 
-Layout::
-
-    manifest.json   what the run is: digests of grammar.gg and config.toml, the --define values,
-                    the backend's name and version, the engine revision, gaitgram's version,
-                    the search strategy and its version (unless GE), the representation and
-                    its version (unless GE), and the run's fingerprint (a digest of all of that)
-    grammar.gg      the grammar text the runs use (a copy: editing the original changes nothing)
-    config.toml     the resolved configuration: defaults, file and flags, the backend named and
-                    its settings spelt out
-    run-000/ ...    one directory per run: checkpoint.json, stats.csv, stats.jsonl, best.json, and
-                    for strategies other than GE the pickled strategy state the checkpoint
-                    names (strategy-NNNNNN.pickle) and the strategy's records (front.json, ...);
-                    backend.json, what each generation spent in the backend (``usage``)
-    summary.json    written when every run has finished
+What a run directory holds, and under which names, is :mod:`gaitgram.runlayout`'s.
 
 Opening a run directory verifies it before anything runs: an edited
 ``grammar.gg`` or ``config.toml``, a backend whose version differs from the one
@@ -55,13 +42,21 @@ from gaitgram.ge.registry import DEFAULT_REPRESENTATION, representation_version
 from gaitgram.language import parse
 from gaitgram.language.source import SourceText, decode_source, path_problem
 from gaitgram.pipeline import Genome, Individual, Pipeline, PipelineError
+from gaitgram.runlayout import (
+    ARMS,
+    CHECKPOINT,
+    CONFIG,
+    GRAMMAR,
+    MANIFEST,
+    RUN_PREFIX,
+    STATS_JSONL,
+    run_path,
+    runs_in,
+)
 from gaitgram.strategies.api import RunState, StrategyError
 from gaitgram.strategies.kept import RecordError, kept_members
 from gaitgram.strategies.registry import get_strategy, load_strategy, run_pipeline
 
-MANIFEST = "manifest.json"
-GRAMMAR = "grammar.gg"
-CONFIG = "config.toml"
 MANIFEST_FORMAT = 1
 
 
@@ -71,7 +66,7 @@ def run_holds(parts: tuple[str, ...]) -> bool:
     assessments are JSON too) or anything in a run's directory (``run-NNN``). An output may go
     anywhere else in it, as the quickstart's ``runs/quickstart/report`` and ``best.gif`` do."""
     top = parts[0]
-    return top.startswith((".", "run-")) or Path(top).suffix in (".json", ".jsonl", ".toml", ".gg")
+    return top.startswith((".", RUN_PREFIX)) or Path(top).suffix in (".json", ".jsonl", ".toml", ".gg")
 
 
 def run_input(path: Path) -> Input:
@@ -171,11 +166,14 @@ class RunDirectory:
         return (self.fingerprint, *self.earlier_fingerprints)
 
     def run_dir(self, run: int) -> Path:
-        return self.path / f"run-{run:03d}"
+        return run_path(self.path, run)
+
+    def checkpoint(self, run: int) -> Path:
+        return self.run_dir(run) / CHECKPOINT
 
     @property
     def checkpoints(self) -> list[Path]:
-        return [self.run_dir(r) / "checkpoint.json" for r in range(self.config.runs)]
+        return [self.checkpoint(r) for r in range(self.config.runs)]
 
     # ---- creating --------------------------------------------------------------------
 
@@ -316,7 +314,7 @@ class RunDirectory:
                 )
         config = replace(self.config, runs=runs)
         config_text = config.to_toml()
-        manifest = json.loads(_read_bytes(self.path / MANIFEST).decode("utf-8"))
+        manifest = _read_manifest(self.path)
         manifest["previous_config_sha256"] = manifest["config_sha256"]
         manifest["config_sha256"] = _sha256(config_text.encode("utf-8"))
         manifest["fingerprint"] = self.fingerprint
@@ -337,7 +335,7 @@ class RunDirectory:
         is gone (committed results keep none), they are left as they are.
         """
         run_dir = self.run_dir(run)
-        checkpoint = run_dir / "checkpoint.json"
+        checkpoint = self.checkpoint(run)
         accepted = self.fingerprints
         state = load_checkpoint(checkpoint, self.pipeline, fingerprint=accepted, run=run, with_memory=False)
         files = run_records(self.pipeline, state)
@@ -426,19 +424,17 @@ def _read_manifest(path: Path) -> dict[str, Any]:
     if not (path / MANIFEST).exists():
         if (path / CONFIG).exists() or (path / GRAMMAR).exists():
             raise RunDirectoryError(f"{path} cannot be used: {_without_manifest(path)}")
-        arms = sorted(arm.name for arm in path.glob("arms/*") if (arm / MANIFEST).is_file())
+        arms = sorted(arm.name for arm in path.glob(f"{ARMS}/*") if (arm / MANIFEST).is_file())
         if arms:
             raise RunDirectoryError(
                 f"{path} is a study directory, not a run directory: give one of its arms, "
-                f"{path / 'arms' / arms[0]} (its arms: {', '.join(arms)})"
+                f"{path / ARMS / arms[0]} (its arms: {', '.join(arms)})"
             )
         raise RunDirectoryError(f"{path} is not a `gaitgram evolve` run directory (no {MANIFEST})")
     try:
-        manifest = json.loads(_read_bytes(path / MANIFEST).decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as error:
-        raise RunDirectoryError(f"{path / MANIFEST}: not a valid manifest: {error}") from None
-    if not isinstance(manifest, dict):
-        raise RunDirectoryError(f"{path / MANIFEST}: not a valid manifest")
+        manifest = jsonio.read_object(path / MANIFEST, "a valid manifest")
+    except jsonio.ObjectError as error:
+        raise RunDirectoryError(str(error)) from None
     for key, kind in _MANIFEST_FIELDS.items():
         if not isinstance(manifest.get(key), kind) or isinstance(manifest.get(key), bool):
             raise RunDirectoryError(f"{path / MANIFEST}: not a valid manifest ({key} missing or mistyped)")
@@ -457,13 +453,13 @@ def _read_manifest(path: Path) -> dict[str, Any]:
 
 def _without_manifest(path: Path) -> str:
     """Why a directory with a run's files but no manifest cannot be used, and what to do."""
-    if any(_of_this_gaitgram(c) for c in path.glob("run-[0-9][0-9][0-9]/checkpoint.json")):
+    if any(_of_this_gaitgram(run / CHECKPOINT) for _, run in runs_in(path)):
         return (
             f"its {MANIFEST} is missing, deleted or lost (its runs' checkpoints are this gaitgram's), so "
             "nothing can prove its runs are unchanged; restore it from a backup, or start a new run "
             "with another --out (this one stays as it is, for gaitgram report)"
         )
-    if any(path.glob("run-[0-9][0-9][0-9]")):
+    if runs_in(path):
         return (
             f"it was made by an older gaitgram that kept no {MANIFEST}, so nothing can prove its runs "
             "are unchanged; start a new run with another --out (it stays as it is, to read)"
@@ -549,8 +545,8 @@ def _last_states(
     for run, path in enumerate(directory.checkpoints):
         if runs is not None and run not in runs:
             continue
-        if not path.exists() and (path.parent / "stats.jsonl").exists():
-            stats = path.parent / "stats.jsonl"
+        if not path.exists() and (path.parent / STATS_JSONL).exists():
+            stats = path.parent / STATS_JSONL
             raise RunDirectoryError(
                 f"{path} is missing, though the run recorded its generations ({stats}): it was deleted "
                 "or lost; restore it from a backup, or run the run again from its start (its seed makes "

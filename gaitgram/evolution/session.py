@@ -16,6 +16,7 @@ from gaitgram.evolution.rundir import RunDirectory
 from gaitgram.evolution.transfer import start_genomes
 from gaitgram.evolution.usage import UsageError, read_usage
 from gaitgram.fileio import write_atomically
+from gaitgram.runlayout import GRAMMAR, SUMMARY
 from gaitgram.strategies.api import GenerationStats, RunState
 
 
@@ -57,10 +58,13 @@ def run_session(
         states.append(state)
     finished = len(states) == config.runs and all(s.generation == config.generations for s in states)
     if finished:
-        write_atomically(
-            directory.path / "summary.json", jsonio.dumps(summary(directory, states), indent=1) + "\n"
-        )
+        write_summary(directory, states)
     return states
+
+
+def write_summary(directory: RunDirectory, states: list[RunState]) -> None:
+    """``summary.json``, once every run of ``directory`` has finished (``states``, by run)."""
+    write_atomically(directory.path / SUMMARY, jsonio.dumps(summary(directory, states), indent=1) + "\n")
 
 
 def summary(directory: RunDirectory, states: list[RunState]) -> dict[str, Any]:
@@ -68,7 +72,7 @@ def summary(directory: RunDirectory, states: list[RunState]) -> dict[str, Any]:
     (``backend_usage``: steps simulated, seconds inside the backend, the generations counted)."""
     bests = [s.best for s in states]
     return {
-        "grammar": "grammar.gg",  # the copy in the run directory: the text the runs used
+        "grammar": GRAMMAR,  # the copy in the run directory: the text the runs used
         "origin": directory.origin,
         "backend": directory.pipeline.backend,
         "fingerprint": directory.fingerprint,

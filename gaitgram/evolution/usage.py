@@ -15,7 +15,6 @@ checkpoint made before runs recorded their usage counts only the generations aft
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from collections.abc import Mapping, Sequence
@@ -26,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 from gaitgram import jsonio
 from gaitgram.backends.api import CountingEvaluator, Evaluation, Evaluator, VerifyingEvaluator
 from gaitgram.fileio import write_atomically
+from gaitgram.runlayout import USAGE as USAGE_FILE
 
 if TYPE_CHECKING:
     from gaitgram.motion.gait import MotionBatch
@@ -42,8 +42,6 @@ __all__ = [
     "write_usage",
 ]
 
-#: The file beside a run's checkpoint that holds what each generation spent in the backend.
-USAGE_FILE = "backend.json"
 _FORMAT = 1
 
 
@@ -95,31 +93,24 @@ def read_usage(run_dir: Path) -> RunUsage | None:
     it); UsageError if the file is damaged."""
     path = run_dir / USAGE_FILE
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        return None
-    except (OSError, UnicodeDecodeError) as error:
-        raise UsageError(f"{path}: cannot read it: {error}; {_FIX}") from None
-    try:
-        data = jsonio.loads(text)
-    except (json.JSONDecodeError, jsonio.NonFinite) as error:
-        raise UsageError(f"{path}: not the JSON gaitgram writes ({error}); {_FIX}") from None
+        data = jsonio.read_object(path, _EXPECTED)
+    except jsonio.ObjectError as error:
+        if error.missing:
+            return None
+        raise UsageError(f"{error}; {_FIX}") from None
     return RunUsage(_entries(data, path))
 
 
+_EXPECTED = f'a gaitgram usage record (expected {{"format": {_FORMAT}, "generations": [...]}})'
 _FIX = "delete it to go on without the run's backend time and steps (they are measurements, not results)"
 
 
-def _entries(data: Any, path: Path) -> tuple[GenerationUsage, ...]:
+def _entries(data: dict[str, Any], path: Path) -> tuple[GenerationUsage, ...]:
     def bad(what: str) -> UsageError:
         return UsageError(f"{path}: {what}; {_FIX}")
 
-    if (
-        not isinstance(data, dict)
-        or data.get("format") != _FORMAT
-        or not isinstance(data.get("generations"), list)
-    ):
-        raise bad(f'not a gaitgram usage record (expected {{"format": {_FORMAT}, "generations": [...]}})')
+    if data.get("format") != _FORMAT or not isinstance(data.get("generations"), list):
+        raise bad(f"not {_EXPECTED}")
     found: list[GenerationUsage] = []
     for k, entry in enumerate(data["generations"]):
         if not isinstance(entry, Mapping):

@@ -17,9 +17,7 @@ from typing import Any
 import numpy as np
 
 from gaitgram import jsonio
-
-FRONT = "front.json"
-ARCHIVE = "archive.json"
+from gaitgram.runlayout import ARCHIVE, FRONT, runs_in
 
 
 class RecordError(ValueError):
@@ -28,18 +26,13 @@ class RecordError(ValueError):
 
 def _read(path: Path) -> dict[str, Any]:
     try:
-        data = jsonio.loads(path.read_text(encoding="utf-8"))
-    except jsonio.NonFinite as error:
-        raise RecordError(f"{path}: malformed ({error}); the file was edited or damaged") from None
-    except (OSError, ValueError) as error:
-        raise RecordError(f"{path}: cannot read it: {error}") from None
-    if not isinstance(data, dict):
-        raise RecordError(f"{path}: not a record")
-    return data
-
-
-def run_dirs(arm: Path) -> list[Path]:
-    return sorted(p for p in arm.glob("run-[0-9][0-9][0-9]") if p.is_dir())
+        return jsonio.read_object(path, "a record")
+    except jsonio.ObjectError as error:
+        if error.damaged:
+            raise RecordError(
+                f"{path}: malformed ({error.problem}); the file was edited or damaged"
+            ) from None
+        raise RecordError(str(error)) from None
 
 
 def _records(
@@ -47,8 +40,7 @@ def _records(
 ) -> Iterator[tuple[int, Path, dict[str, Any]]]:
     """(run, file, its content) of each of an arm's runs that keeps the record ``name``: of the
     runs numbered ``runs`` (a report's), or of every run directory there is."""
-    for directory in run_dirs(arm):
-        run = int(directory.name.removeprefix("run-"))
+    for run, directory in runs_in(arm):
         path = directory / name
         if (runs is None or run in runs) and path.is_file():
             yield run, path, _read(path)

@@ -31,6 +31,7 @@ import numpy as np
 from gaitgram.backends.api import GaitStatus, SettingsError
 from gaitgram.extras import require
 from gaitgram.pipeline import Individual, Pipeline
+from gaitgram.runlayout import ARCHIVE
 from gaitgram.strategies.api import Genome, RunContext, RunState, Strategy, StrategyError
 from gaitgram.strategies.common import (
     GEVariation,
@@ -160,7 +161,7 @@ class MapElites(Strategy):
         return sorted(taken.values())
 
     def records(self, context: RunContext, state: RunState) -> dict[str, Any]:
-        return {"archive.json": archive_record(state.generation, state.memory)}
+        return {ARCHIVE: archive_record(state.generation, state.memory)}
 
 
 def archive_record(generation: int, memory: ArchiveMemory) -> dict[str, Any]:

@@ -27,6 +27,7 @@ import numpy as np
 from gaitgram.backends.api import WORST_FITNESS, GaitStatus, SettingsError
 from gaitgram.extras import require
 from gaitgram.pipeline import Individual, Pipeline
+from gaitgram.runlayout import FRONT
 from gaitgram.strategies.api import Genome, RunContext, RunState, Strategy, StrategyError
 from gaitgram.strategies.common import (
     GEVariation,
@@ -134,7 +135,7 @@ class Nsga2(Strategy):
 
     def records(self, context: RunContext, state: RunState) -> dict[str, Any]:
         memory: NsgaMemory = state.memory
-        return {"front.json": front_record(state.generation, memory.objectives, _front(memory))}
+        return {FRONT: front_record(state.generation, memory.objectives, _front(memory))}
 
 
 def _front(memory: NsgaMemory) -> list[Individual]:

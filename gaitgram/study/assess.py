@@ -27,13 +27,9 @@ from gaitgram.backends.registry import BackendSpec, installed_backend
 from gaitgram.evolution.checkpoint import load_checkpoint
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_walk_of_runs, read_manifest
 from gaitgram.fileio import write_atomically
+from gaitgram.runlayout import ASSESSMENT, best_walk_window, run_path
 from gaitgram.study.records import ArmRecord, ReportError
 
-#: The file each run directory keeps its best gait's assessment in.
-ASSESSMENT = "assessment.json"
-#: The file an arm's run directory keeps its best walk's assessment in (the walk a report with
-#: ``--gaits`` animates; it may be no run's best gait).
-BEST_WALK = "best-walk-assessment.json"
 #: Raised when what is measured, or how, changes: every kept assessment is then stale.
 #: 2: the bumps are ten floors, and each trial keeps on how many it was played and held.
 FORMAT = 2
@@ -53,13 +49,13 @@ def assessing(backend: str) -> Assessment | None:
 
 
 def assessment_path(arm: Path, run: int) -> Path:
-    return arm / f"run-{run:03d}" / ASSESSMENT
+    return run_path(arm, run) / ASSESSMENT
 
 
 def best_walk_path(arm: Path, window: int | None = None) -> Path:
     """Where the best walk of an arm's runs is kept: of all of them, or of its first ``window``
     (a report over fewer runs than the arm has, whose best walk may be another)."""
-    return arm / (BEST_WALK if window is None else f"best-walk-assessment-first-{window}.json")
+    return arm / best_walk_window(window)
 
 
 def kept_key(record: dict[str, Any]) -> tuple[Any, ...]:
@@ -163,10 +159,10 @@ def _kept(path: Path, record: dict[str, Any]) -> bool:
     """Whether ``path`` keeps a current, complete assessment of ``record``'s gait: one made before
     the graded trial existed is measured again (its other parts come out the same, bit for bit)."""
     try:
-        kept = jsonio.loads(path.read_text(encoding="utf-8"))  # a damaged one is measured again
-    except (OSError, ValueError):
+        kept = jsonio.read_object(path)
+    except jsonio.ObjectError:  # a damaged one is measured again
         return False
-    return isinstance(kept, dict) and kept_key(kept) == kept_key(record) and "graded" in kept
+    return kept_key(kept) == kept_key(record) and "graded" in kept
 
 
 def measure(settings: dict[str, Any], batch: Any, spec: BackendSpec) -> list[dict[str, Any]]:

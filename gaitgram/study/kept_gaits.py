@@ -19,7 +19,6 @@ bumpy floors), and under all of them, with the verdict's terms the gaits failed.
 
 from __future__ import annotations
 
-import json
 import math
 import re
 from collections.abc import Sequence
@@ -30,8 +29,9 @@ import numpy as np
 
 from gaitgram import jsonio
 from gaitgram.backends.api import Assessment, ReferenceCurve
+from gaitgram.runlayout import ASSESSMENT, BEST, in_run, run_path
 from gaitgram.study import escape
-from gaitgram.study.assess import ASSESSMENT, FORMAT, assessing, assessment_path, best_walk_path, kept_key
+from gaitgram.study.assess import FORMAT, assessing, assessment_path, best_walk_path, kept_key
 from gaitgram.study.model import Column, Figure, Kind, RankTests, Section, Table, figure_name
 from gaitgram.study.records import ArmRecord, ReportError
 from gaitgram.study.stats import bootstrap_median_ci, compare
@@ -157,19 +157,15 @@ def _again(arm: ArmRecord) -> str:
 
 def _read(path: Any, arm: ArmRecord) -> dict[str, Any]:
     try:
-        kept = jsonio.loads(path.read_text(encoding="utf-8"))
-    except jsonio.NonFinite as error:
-        raise ReportError(f"{path}: {error}; the file was edited or damaged: {_again(arm)}") from None
-    except (OSError, ValueError) as error:
-        raise ReportError(f"{path}: cannot read it ({error}); {_again(arm)}") from None
-    if not isinstance(kept, dict):
-        raise ReportError(f"{path}: not an assessment of a gait; {_again(arm)}")
-    return kept
+        return jsonio.read_object(path, "an assessment of a gait")
+    except jsonio.ObjectError as error:
+        damaged = "the file was edited or damaged: " if error.damaged else ""
+        raise ReportError(f"{error}; {damaged}{_again(arm)}") from None
 
 
 def _best_json(arm: ArmRecord, run: int) -> dict[str, Any]:
     """``best.json`` (the report's records read and checked it already)."""
-    return json.loads((arm.path / f"run-{run:03d}" / "best.json").read_text(encoding="utf-8"))
+    return jsonio.read_object(run_path(arm.path, run) / BEST)
 
 
 def _number(value: Any) -> bool:
@@ -344,7 +340,7 @@ class RealismCurves:
 
 ASSESS_TEXT = (
     "These need simulation, kept in each run directory: `gaitgram report --assess` measures "
-    "each run's best gait once (run-NNN/assessment.json); every report after reads them."
+    f"each run's best gait once ({in_run(ASSESSMENT)}); every report after reads them."
 )
 
 
@@ -557,7 +553,7 @@ def unmeasured_section(assessed: Sequence[ArmAssessed]) -> Section:
         "each run's best gait",
         text=(
             f"The sections on {realism}robustness and graded robustness need simulation: "
-            "`gaitgram report --assess` measures each run's best gait once (run-NNN/assessment.json), "
+            f"`gaitgram report --assess` measures each run's best gait once ({in_run(ASSESSMENT)}), "
             "and every report after reads them."
         ),
     )

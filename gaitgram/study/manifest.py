@@ -8,18 +8,15 @@ an error naming the file and the field, never a traceback.
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from gaitgram import jsonio
+from gaitgram.runlayout import ARMS, STUDY_MANIFEST
 from gaitgram.study.spec import MAX_RUNS, StudyError, is_arm_name
 
-STUDY_MANIFEST = "study.json"
 STUDY_FORMAT = 1
-#: Where a study directory keeps its arms, each a run directory.
-ARMS = "arms"
 
 
 def study_holds(parts: tuple[str, ...]) -> bool:
@@ -63,15 +60,11 @@ def read_study_manifest(directory: Path) -> StudyManifest:
     """The manifest of a study directory, every field checked."""
     path = directory / STUDY_MANIFEST
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise StudyError(f"{directory} is not a study directory (no {STUDY_MANIFEST})") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise StudyError(f"{path}: cannot read the study manifest: {error}") from None
-    except json.JSONDecodeError as error:
-        raise StudyError(f"{path}: not JSON ({error}); {_DAMAGED}") from None
-    if not isinstance(data, dict):
-        raise StudyError(f"{path}: not a study manifest; {_DAMAGED}")
+        data = jsonio.read_object(path, "a study manifest")
+    except jsonio.ObjectError as error:
+        if error.missing:
+            raise StudyError(f"{directory} is not a study directory (no {STUDY_MANIFEST})") from None
+        raise StudyError(f"{error}; {_DAMAGED}" if error.damaged else str(error)) from None
     if data.get("format") != STUDY_FORMAT:
         raise StudyError(
             f"{path}: format {data.get('format')!r} is not {STUDY_FORMAT}: made by another gaitgram, "

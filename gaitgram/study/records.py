@@ -24,14 +24,15 @@ import numpy as np
 from gaitgram import jsonio
 from gaitgram.backends.api import Verdict
 from gaitgram.backends.registry import get_backend
-from gaitgram.evolution.rundir import CONFIG, MANIFEST, RunDirectoryError, read_manifest, saved_config
+from gaitgram.evolution.rundir import RunDirectoryError, read_manifest, saved_config
 from gaitgram.evolution.usage import RunUsage, UsageError, read_usage
 from gaitgram.language.source import path_problem
 from gaitgram.pipeline import DEFAULT_BACKEND
 from gaitgram.plugins import PluginLoadError, PluginNotFound
+from gaitgram.runlayout import ARMS, BEST, CONFIG, MANIFEST, STATS_JSONL, STUDY_MANIFEST, run_path
 from gaitgram.strategies.kept import RecordError, kept_members
 from gaitgram.study import escape
-from gaitgram.study.manifest import STUDY_MANIFEST, read_study_manifest
+from gaitgram.study.manifest import read_study_manifest
 from gaitgram.study.spec import StudyError
 
 
@@ -179,13 +180,13 @@ def load_arm(
     numbers = [
         run
         for run in range(window or config.runs)
-        if not (finished_only and _running(path / f"run-{run:03d}", config.generations))
+        if not (finished_only and _running(run_path(path, run), config.generations))
     ]
     # What scored the runs (a directory without a manifest, hand-made or of gaitgram 0.1, cannot say).
     backend, version = (manifest["backend"], manifest["backend_version"]) if manifest else ("", "")
     verdict = _verdict(backend or config.backend or DEFAULT_BACKEND)
     scoring = _scoring(backend or config.backend or DEFAULT_BACKEND, config.backend_settings)
-    runs = tuple(_load_run(path / f"run-{run:03d}", config.generations, redo, verdict) for run in numbers)
+    runs = tuple(_load_run(run_path(path, run), config.generations, redo, verdict) for run in numbers)
     return ArmRecord(
         name or escape.encodable(path.name),
         strategy or config.strategy,
@@ -207,10 +208,10 @@ def load_arm(
 def _running(path: Path, generations: int) -> bool:
     """A run not finished yet: not started, or fewer generations recorded than it will have."""
     try:
-        lines = path.joinpath("stats.jsonl").read_text(encoding="utf-8").splitlines()
+        lines = (path / STATS_JSONL).read_text(encoding="utf-8").splitlines()
     except (OSError, UnicodeDecodeError):
         return True
-    return sum(bool(line.strip()) for line in lines) < generations + 1 or not (path / "best.json").exists()
+    return sum(bool(line.strip()) for line in lines) < generations + 1 or not (path / BEST).exists()
 
 
 def _scoring(backend: str, settings: Mapping[str, Any]) -> tuple[tuple[str, str], ...]:
@@ -234,7 +235,7 @@ def _verdict(backend: str) -> Verdict | None:
 
 def _load_run(path: Path, generations: int, redo: str, verdict: Verdict | None) -> RunRecord:
     rewrite = f"rewrite the run's records from its checkpoint with: {redo}"
-    stats = path / "stats.jsonl"
+    stats = path / STATS_JSONL
     lines = [(n, line) for n, line in enumerate(_lines(stats, rewrite), 1) if line.strip()]
     records = [
         _stats_line(line, f"{stats}:{n}", generation, rewrite) for generation, (n, line) in enumerate(lines)
@@ -249,7 +250,7 @@ def _load_run(path: Path, generations: int, redo: str, verdict: Verdict | None) 
             f"{stats}: {len(records)} generations, but the run has {generations + 1} (0..{generations}); "
             f"the file was edited or damaged: {rewrite}"
         )
-    best_record = _best_record(path / "best.json", records[-1]["best"], rewrite)
+    best_record = _best_record(path / BEST, records[-1]["best"], rewrite)
 
     def column(key: str) -> np.ndarray:
         return np.array([math.nan if r.get(key) is None else float(r[key]) for r in records])
@@ -310,13 +311,9 @@ def _stats_line(line: str, where: str, generation: int, rewrite: str) -> dict[st
     ``where`` is the file and line, as the user's editor numbers it (blank lines included)."""
     damaged = f"the file was edited or damaged: {rewrite}"
     try:
-        record = jsonio.loads(line)
-    except jsonio.NonFinite as error:
-        raise ReportError(f"{where}: {error}; {damaged}") from None
-    except ValueError as error:
-        raise ReportError(f"{where}: not JSON ({error}); {damaged}") from None
-    if not isinstance(record, dict):
-        raise ReportError(f"{where}: not a record of one generation; {damaged}")
+        record = jsonio.object_from(line, where, "a record of one generation")
+    except jsonio.ObjectError as error:
+        raise ReportError(f"{error}; {damaged}") from None
     if record.get("generation") != generation or not _count(record.get("generation")):
         raise ReportError(
             f"{where}: generation: {record.get('generation')!r}, expected {generation}; {damaged}"
@@ -341,15 +338,9 @@ def _best_record(path: Path, best: float, rewrite: str) -> dict[str, Any]:
     """``best.json``'s status and components, checked, and its fitness the statistics' last best."""
     damaged = f"the file was edited or damaged: {rewrite}"
     try:
-        record = jsonio.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise ReportError(f"{path} is missing; {rewrite}") from None
-    except jsonio.NonFinite as error:
-        raise ReportError(f"{path}: {error}; {damaged}") from None
-    except (OSError, ValueError) as error:
-        raise ReportError(f"{path}: cannot read it ({error}); {rewrite}") from None
-    if not isinstance(record, dict):
-        raise ReportError(f"{path}: not a record of the best gait; {damaged}")
+        record = jsonio.read_object(path, "a record of the best gait")
+    except jsonio.ObjectError as error:
+        raise ReportError(f"{error}; {damaged if error.damaged else rewrite}") from None
     components = record.get("components")
     if not isinstance(components, dict) or not all(_finite(v) for v in components.values()):
         raise ReportError(f"{path}: components: not a table of finite numbers; {damaged}")
@@ -357,7 +348,7 @@ def _best_record(path: Path, best: float, rewrite: str) -> dict[str, Any]:
         raise ReportError(f"{path}: status: missing or not text; {damaged}")
     if record.get("fitness") != best:
         raise ReportError(
-            f"{path}: fitness {record.get('fitness')!r} is not the last generation's best in stats.jsonl "
+            f"{path}: fitness {record.get('fitness')!r} is not the last generation's best in {STATS_JSONL} "
             f"({best!r}); {damaged}"
         )
     return record
@@ -393,12 +384,12 @@ def _study_arms(
         raise ReportError(str(error)) from None
 
     def redo(arm: str) -> str:
-        path = directory / "arms" / arm
+        path = directory / ARMS / arm
         return f"gaitgram study {manifest.study_file} -o {directory} (or gaitgram evolve --resume {path})"
 
     arms = [
         load_arm(
-            directory / "arms" / a.name,
+            directory / ARMS / a.name,
             a.name,
             a.strategy,
             redo=redo(a.name),

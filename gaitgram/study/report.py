@@ -54,6 +54,7 @@ from gaitgram.fileio import (
     swapped_files,
     write_atomically,
 )
+from gaitgram.runlayout import ARMS, STUDY_MANIFEST
 from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts, load_repertoire
 from gaitgram.study import escape
 from gaitgram.study.assess import assess_arms, assesses, assessing
@@ -70,7 +71,7 @@ from gaitgram.study.kept_gaits import (
     robustness_section,
     unmeasured_section,
 )
-from gaitgram.study.manifest import STUDY_MANIFEST, study_holds
+from gaitgram.study.manifest import study_holds
 from gaitgram.study.model import (
     Gait,
     Section,
@@ -543,7 +544,7 @@ def _planned(directories: Sequence[Path], runs: int | None = None) -> int:
     """How many runs the study or run directories will have when finished (at most ``runs`` an
     arm)."""
     from gaitgram.evolution.rundir import RunDirectoryError, read_manifest, saved_config
-    from gaitgram.study.manifest import STUDY_MANIFEST, read_study_manifest
+    from gaitgram.study.manifest import read_study_manifest
     from gaitgram.study.spec import StudyError
 
     paths: list[Path] = []
@@ -553,7 +554,7 @@ def _planned(directories: Sequence[Path], runs: int | None = None) -> int:
                 manifest = read_study_manifest(directory)
             except StudyError as error:
                 raise ReportError(str(error)) from None
-            paths += [directory / "arms" / a.name for a in manifest.arms]
+            paths += [directory / ARMS / a.name for a in manifest.arms]
         else:
             paths.append(directory)
     try:

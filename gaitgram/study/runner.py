@@ -38,13 +38,12 @@ from multiprocessing import get_context
 from pathlib import Path
 from typing import Any
 
-from gaitgram import jsonio
 from gaitgram.backends.api import Evaluator
 from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint
 from gaitgram.evolution.distributed import DaskCluster, import_distributed
 from gaitgram.evolution.engine import run_evolution
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, fingerprint
-from gaitgram.evolution.session import summary
+from gaitgram.evolution.session import write_summary
 from gaitgram.evolution.transfer import start_genomes
 from gaitgram.extras import MissingExtra
 from gaitgram.fileio import (
@@ -56,9 +55,10 @@ from gaitgram.fileio import (
     write_atomically,
 )
 from gaitgram.pipeline import PipelineError
+from gaitgram.runlayout import ARMS, STATS_JSONL, STUDY_MANIFEST, runs_in
 from gaitgram.strategies.api import StrategyError
 from gaitgram.strategies.registry import load_strategy
-from gaitgram.study.manifest import STUDY_MANIFEST, ManifestArm, StudyManifest, read_study_manifest
+from gaitgram.study.manifest import ManifestArm, StudyManifest, read_study_manifest
 from gaitgram.study.spec import Study, StudyError
 
 STOP_FILE = ".stop"
@@ -87,7 +87,7 @@ class StudyDirectory:
     arms: dict[str, RunDirectory]
 
     def arm_path(self, name: str) -> Path:
-        return self.path / "arms" / name
+        return self.path / ARMS / name
 
     @property
     def tasks(self) -> list[Task]:
@@ -97,7 +97,7 @@ class StudyDirectory:
     def progress(self, task: Task) -> RunProgress:
         """How far a run has got, from its statistics file (cheap, for the progress display only:
         the checkpoint is the truth, and a line that does not read is not counted)."""
-        stats = self.arms[task.arm].run_dir(task.run) / "stats.jsonl"
+        stats = self.arms[task.arm].run_dir(task.run) / STATS_JSONL
         generation, evaluations = -1, 0
         with contextlib.suppress(OSError, ValueError):
             for line in stats.read_text(encoding="utf-8").splitlines():
@@ -109,7 +109,7 @@ class StudyDirectory:
 
     def finished(self, task: Task) -> bool:
         directory = self.arms[task.arm]
-        path = directory.run_dir(task.run) / "checkpoint.json"
+        path = directory.checkpoint(task.run)
         if not path.exists():
             return False
         state = load_checkpoint(
@@ -207,7 +207,7 @@ def _not_a_study(out: Path) -> str:
     if not out.is_dir():
         return "exists and is not a directory; choose another -o"
     leftovers = {p.name for p in out.iterdir()} - {LOCK_FILE, STOP_FILE}
-    if leftovers == {"arms"} and not any(out.glob("arms/*/run-[0-9][0-9][0-9]")):
+    if leftovers == {ARMS} and not any(runs_in(arm) for arm in (out / ARMS).glob("*")):
         return (
             f"holds the start of a study that was stopped before its {STUDY_MANIFEST} was written (by a "
             "gaitgram that did not yet make study directories whole), and no runs; delete it and run "
@@ -230,7 +230,7 @@ def _create(study: Study, out: Path) -> None:
             fingerprints = {}
             for arm in study.arms:
                 made = RunDirectory.create(
-                    building / "arms" / arm.name, arm.pipeline, defines=arm.defines, origin=str(arm.grammar)
+                    building / ARMS / arm.name, arm.pipeline, defines=arm.defines, origin=str(arm.grammar)
                 )
                 fingerprints[arm.name] = made.fingerprint
             write_atomically(building / STUDY_MANIFEST, _manifest(study, fingerprints).text())
@@ -258,7 +258,7 @@ def _verified(study: Study, out: Path, *, write: bool = True) -> StudyDirectory:
         )
     arms: dict[str, RunDirectory] = {}
     for arm in study.arms:
-        path = out / "arms" / arm.name
+        path = out / ARMS / arm.name
         if not (path.exists() or path.is_symlink()):  # an arm deleted to run it again from scratch
             if not write:
                 continue
@@ -330,7 +330,7 @@ def run_task(arm_path: str, expected: str, runs: int, run: int, threads: int, st
         return TaskResult(name, run, -1, False)
     thread = threading.get_ident()
     directory = _opened(arm_path, expected, runs, thread)
-    fresh = not (directory.run_dir(run) / "checkpoint.json").exists()
+    fresh = not directory.checkpoint(run).exists()
     state = run_evolution(
         directory.pipeline,
         _evaluator(arm_path, expected, runs, threads, thread),
@@ -526,7 +526,7 @@ def _write_arm_summaries(directory: StudyDirectory) -> None:
     for arm in directory.arms.values():
         states = []
         for run in range(directory.study.runs):
-            path = arm.run_dir(run) / "checkpoint.json"
+            path = arm.checkpoint(run)
             if not path.exists():
                 break
             state = load_checkpoint(
@@ -536,4 +536,4 @@ def _write_arm_summaries(directory: StudyDirectory) -> None:
                 break
             states.append(state)
         if len(states) == directory.study.runs:
-            write_atomically(arm.path / "summary.json", jsonio.dumps(summary(arm, states), indent=1) + "\n")
+            write_summary(arm, states)

@@ -12,12 +12,13 @@ from __future__ import annotations
 import statistics
 from collections.abc import Sequence
 
+from gaitgram.runlayout import USAGE
 from gaitgram.study.model import Column, Kind, Section, Table
 from gaitgram.study.records import ArmRecord
 
 USAGE_TEXT = (
     "What each arm's runs spent in the backend, as each run recorded it beside its checkpoint "
-    "(`backend.json`): the steps it simulated (summed over gaits; a backend that does not count "
+    f"(`{USAGE}`): the steps it simulated (summed over gaits; a backend that does not count "
     "them has none) and the wall seconds inside the backend's `evaluate` and `verify`, over the "
     "generations counted (a run resumed from a checkpoint made before runs recorded them counts "
     "only the later ones). The seconds are the machine's that ran the run, under whatever else ran "

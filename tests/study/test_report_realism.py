@@ -28,8 +28,9 @@ from typer.testing import CliRunner
 from conftest import GRAMMARS
 from gaitgram.cli import app
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_walk_of_runs
+from gaitgram.runlayout import ASSESSMENT, BEST_WALK
 from gaitgram.study import assess as assess_module
-from gaitgram.study.assess import ASSESSMENT, BEST_WALK, assess_arm, best_walk_path
+from gaitgram.study.assess import assess_arm, best_walk_path
 
 runner = CliRunner()
 PAPER_WEIGHTS = (

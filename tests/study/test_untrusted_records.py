@@ -94,6 +94,28 @@ def test_a_study_manifest_that_is_not_json_is_named(copy: Path) -> None:
     refused(report(copy / "s"), "study.json: not JSON")
 
 
+@pytest.mark.parametrize(
+    ("name", "command", "remedy"),
+    [
+        ("best.json", report, "the file was edited or damaged: rewrite the run's records"),
+        ("backend.json", report, "delete it to go on without the run's backend time and steps"),
+        ("checkpoint.json", study_again, "it cannot be resumed (restore it from a backup"),
+    ],
+)
+@pytest.mark.parametrize("content", ['{"generation": ', "[1, 2]"])
+def test_a_run_record_that_holds_no_object_is_named_with_what_to_do(
+    copy: Path, name: str, command: Callable, remedy: str, content: str
+) -> None:
+    """Every record a run keeps is read back as one JSON object: one that is not JSON, or holds
+    something else, names the file, says what it holds and what to do, as every other does."""
+    path = copy / "s" / "arms" / "plain" / "run-001" / name
+    path.write_text(content)
+    said = "not JSON: " if content.startswith("{") else "not a"
+    message = refused(command(copy if command is study_again else copy / "s"), remedy)
+    assert f"{path}: " in message
+    assert said in message.split(f"{path}: ", 1)[1]
+
+
 def test_an_edited_arm_config_is_refused_by_study_and_report(copy: Path) -> None:
     config = copy / "s" / "arms" / "plain" / "config.toml"
     config.write_text(config.read_text().replace("runs = 3", "runs = 0"))
