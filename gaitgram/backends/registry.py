@@ -90,9 +90,10 @@ class BackendSpec:
     * ``bodies`` names the bodies a gait can be played on (a ``body`` setting),
       each with a line saying what it is; None: the backend has one.
     * ``retarget(settings, motion, body, scaling)`` gives the settings and the
-      motion that play gaits evolved under ``settings`` on ``body``: the same
-      curves, their cycle frequency scaled as ``scaling`` (one of
-      ``retarget_scalings``) says; None: gaits cannot change bodies.
+      motion that play gaits evolved under ``settings`` on ``body`` (one of
+      ``bodies``, checked by the caller as the ``body`` setting, where the backend
+      defines its bodies): the same curves, their cycle frequency scaled as
+      ``scaling`` (one of ``retarget_scalings``) says; None: gaits cannot change bodies.
     * ``assess(settings, motion)`` measures each gait of a motion batch beyond its
       score, once, for ``gaitgram report --assess`` to keep (``assessment.json``):
       ``mujoco-horse``'s realism beside real walks and its disturbance trials;

@@ -8,13 +8,13 @@ body's fitness and checked over its horizon, as a run checks the gaits it keeps.
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 from gaitgram.backends.api import Evaluation, SettingsError
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, finished_bests
+from gaitgram.ge.registry import Genome
 from gaitgram.motion.gait import MotionBatch
 from gaitgram.pipeline import Individual, Pipeline, PipelineError
 
@@ -38,7 +38,7 @@ class Retargeted:
 
 
 def retarget(
-    pipeline: Pipeline, genomes: Sequence[Sequence[int]], generation: int, body: str, scaling: str
+    pipeline: Pipeline, genomes: Sequence[Genome], generation: int, body: str, scaling: str
 ) -> Retargeted:
     """Play ``genomes``, evolved through ``pipeline``, on ``body``, as they would be scored in
     ``generation``; raises :class:`RetargetError` for a backend without bodies, an unknown body
@@ -71,14 +71,16 @@ def retarget(
 
 def check_playing(pipeline: Pipeline, body: str, scalings: Sequence[str]) -> None:
     """Raise :class:`RetargetError` unless ``pipeline``'s backend has bodies, ``body`` among them,
-    and knows each of ``scalings``: before anything is played, whatever is asked."""
+    and knows each of ``scalings``: before anything is played, whatever is asked. The body is
+    checked where the backend defines its bodies, as its ``body`` setting (with a "did you mean")."""
     spec = pipeline.spec
     if spec.retarget is None or not spec.bodies:
         raise RetargetError(f"backend {pipeline.backend!r} has one body: its gaits cannot be retargeted")
-    if body not in spec.bodies:
-        close = difflib.get_close_matches(body, list(spec.bodies), n=1)
-        hint = f"did you mean {close[0]!r}?" if close else f"its bodies: {', '.join(spec.bodies)}"
-        raise RetargetError(f"backend {pipeline.backend!r} has no body {body!r}; {hint}")
+    try:
+        spec.checked_settings({**pipeline.config.backend_settings, "body": body})
+    except SettingsError as error:
+        why = error.message if error.key == "body" else str(error)
+        raise RetargetError(f"backend {pipeline.backend!r}: {why}") from None
     for scaling in scalings:
         if scaling not in spec.retarget_scalings:
             known = ", ".join(spec.retarget_scalings)
@@ -97,7 +99,7 @@ class RunBest:
 
     run: int
     generation: int
-    genome: tuple[int, ...]
+    genome: Genome
     evolved_frequency: float | None  # Hz, None where the gait was played at its body's target
     recorded: Evaluation
     played: tuple[tuple[str, float | None, Evaluation], ...]  # (scaling, Hz or None, evaluation)

@@ -20,6 +20,7 @@ import numpy as np
 from gaitgram.animation import RenderError, write_animation
 from gaitgram.backends.registry import installed_backend
 from gaitgram.evolution.rundir import KeptGait, RunDirectory, RunDirectoryError, best_walk_of_runs
+from gaitgram.ge.registry import Genome
 from gaitgram.pipeline import PipelineError
 from gaitgram.strategies.kept import Front, Repertoire
 from gaitgram.study import escape
@@ -60,7 +61,7 @@ def spread_cells(repertoire: Repertoire, count: int) -> list[tuple[int, ...]]:
     return [cells[i] for i in _spread(len(cells), count)]
 
 
-def _gif(stem: str, caption: str, arm: ArmRecord, genome: Sequence[int]) -> Figure:
+def _gif(stem: str, caption: str, arm: ArmRecord, genome: Genome) -> Figure:
     return Figure(stem, caption, Gait(arm.path, tuple(genome)), ("gif",))
 
 
@@ -151,7 +152,7 @@ GIF_SIZE = (320, 240)
 
 
 def render_gaits(
-    run_directory: Path, genomes: Sequence[Sequence[int]], paths: Sequence[Path], fps: int = GIF_FPS
+    run_directory: Path, genomes: Sequence[Genome], paths: Sequence[Path], fps: int = GIF_FPS
 ) -> None:
     """One GIF per genome (``paths[i]`` for ``genomes[i]``), played as the run scored it."""
     try:

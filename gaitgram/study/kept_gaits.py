@@ -29,6 +29,7 @@ import numpy as np
 
 from gaitgram import jsonio
 from gaitgram.backends.api import Assessment, ReferenceCurve
+from gaitgram.ge.registry import Genome
 from gaitgram.runlayout import ASSESSMENT, BEST, in_run, run_path
 from gaitgram.study import escape
 from gaitgram.study.assess import FORMAT, assessing, assessment_path, best_walk_path, kept_key
@@ -59,7 +60,7 @@ class Assessed:
     """One run's best gait, as its kept assessment measured it."""
 
     run: int
-    genome: tuple[int, ...]
+    genome: Genome
     fitness: float
     walk: bool | None  # the gait is a walk by the walk criterion (the run's records)
     gait: str  # "measured", "falls" (or does not step), "invalid"
@@ -511,7 +512,7 @@ def _curves(
 
 
 def arm_curves_figure(
-    arms: Sequence[ArmRecord], assessed: ArmAssessed, walk: Sequence[int] | None = None
+    arms: Sequence[ArmRecord], assessed: ArmAssessed, walk: Genome | None = None
 ) -> Figure | None:
     """One arm's best gaits' curves on the real walks' band, to show beside its animated ``walk``
     (a genome): thick, that walk's, if it is a run's best gait; else the arm's best by fitness."""

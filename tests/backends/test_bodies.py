@@ -256,8 +256,21 @@ def test_retarget_command(horse_run: Path) -> None:
     assert "unscaled" not in table.output
     wrong = runner.invoke(app, ["retarget", "--run", str(horse_run), "--to", "zebra"])
     assert wrong.exit_code == 2
-    assert "no body 'zebra'" in wrong.output
+    assert "no body is called 'zebra'" in wrong.output
     assert "Traceback" not in wrong.output
+
+
+@pytest.mark.parametrize("each_run", [[], ["--each-run"]])
+def test_a_misspelt_body_is_named_alike_wherever_it_is_given(horse_run: Path, each_run: list[str]) -> None:
+    """The body is checked where the bodies are defined, once: retarget --to says what evaluate's
+    --set body= and a run's config say, with the same "did you mean"."""
+    said = "no body is called 'drfat'; did you mean 'draft'?"
+    retargeted = runner.invoke(app, ["retarget", "--run", str(horse_run), "--to", "drfat", *each_run])
+    evaluated = runner.invoke(app, ["evaluate", HYBRID, "--genome", "1,2,3", "--set", "body=drfat"])
+    for result in (retargeted, evaluated):
+        assert result.exit_code == 2, result.output
+        assert said in " ".join(result.stderr.split())
+        assert "Traceback" not in result.output
 
 
 # --- seeded transfer ---------------------------------------------------------------------------

@@ -117,7 +117,7 @@ def test_retarget_refuses_bodies_and_scalings_before_playing(here: Path) -> None
     evolve(here, "horse", SINE_WALK, TINY_HORSE)
     refused(
         ["retarget", "--run", "horse", "--to", "nosuchbody", "--each-run"],
-        "backend 'mujoco-horse' has no body 'nosuchbody'; its bodies: horse, shetland, pony, draft",
+        "backend 'mujoco-horse': no body is called 'nosuchbody'; the bodies are horse, shetland, pony, draft",
     )
     refused(
         ["retarget", "--run", "horse", "--to", "pony", "--each-run", "--scaling", "nosuch"],

@@ -35,7 +35,8 @@ def frequency_ratio(source: str | None, target: str | None) -> float:
 def retarget(
     settings: Mapping[str, Any], motion: MotionBatch, body: str, scaling: str
 ) -> tuple[dict[str, Any], MotionBatch]:
-    """The settings and motion that play ``motion``, evolved under ``settings``, on ``body``.
+    """The settings and motion that play ``motion``, evolved under ``settings``, on ``body`` (one of
+    ``bodies.toml``'s: the caller checked it, as the ``body`` setting).
 
     A gait without its own frequency is played at the target frequency of the body it is on,
     which already scales as ``sqrt(g / h)``; ``unscaled`` plays it at its source body's instead.
@@ -45,7 +46,6 @@ def retarget(
     source = HorseSettings.from_mapping(settings)
     # The frequencies are given as played on the target body, so its own scaling is dropped.
     target = {key: value for key, value in settings.items() if key != "frequencies_of"} | {"body": body}
-    HorseSettings.from_mapping(target)  # an unknown body is refused here, with the names there are
     played = motion.frequencies
     if played is not None and source.frequencies_of is not None:  # as the source run played them
         played = played * frequency_ratio(source.frequencies_of, source.body)
