@@ -19,7 +19,7 @@ from gaitgram.cli.common import (
     read_inputs,
     write_or_exit,
 )
-from gaitgram.cli.options import Defines, Representation, RepresentationSettings, parse_defines
+from gaitgram.cli.options import Defines, Representation, RepresentationSettings, ge_default, parse_defines
 from gaitgram.ge import CodonMode, MappingOptions
 from gaitgram.ge.export import to_ponyge2, to_python
 from gaitgram.ge.registry import DEFAULT_REPRESENTATION
@@ -36,9 +36,12 @@ def command(
     output: Annotated[Path, typer.Option("--output", "-o", help="Where to write; - for standard output.")],
     target: Annotated[Target, typer.Option("--target", "-t", help="What to write.")] = Target.JSON,
     codons: Annotated[
-        CodonMode | None, typer.Option(help="GE: codon consumption stored as the default (lazy).")
+        CodonMode | None,
+        typer.Option(help=f"GE: codon consumption stored as the default ({ge_default('codons')})."),
     ] = None,
-    max_wraps: Annotated[int | None, typer.Option(min=0, help="GE: wraps stored as the default (3).")] = None,
+    max_wraps: Annotated[
+        int | None, typer.Option(min=0, help=f"GE: wraps stored as the default ({ge_default('max_wraps')}).")
+    ] = None,
     max_depth: Annotated[int | None, typer.Option(min=1, help="Depth limit stored as the default.")] = None,
     representation: Representation = DEFAULT_REPRESENTATION,
     setting: RepresentationSettings = None,

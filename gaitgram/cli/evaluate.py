@@ -12,7 +12,7 @@ from rich.table import Table
 from gaitgram import jsonio
 from gaitgram.backends.api import Evaluation
 from gaitgram.cli.common import err, fail
-from gaitgram.cli.options import Defines, Settings, Walk, parse_settings
+from gaitgram.cli.options import Defines, Settings, Walk, ge_default, parse_settings
 from gaitgram.cli.selection import (
     Codons,
     GenomeCodons,
@@ -43,7 +43,10 @@ _Backend = Annotated[
     str | None,
     typer.Option(help=f"Fitness backend (default: the grammar's @backend, else {DEFAULT_BACKEND})."),
 ]
-_MaxDepth = Annotated[int | None, typer.Option(min=1, help="Deepest rule node (default: none).")]
+_MaxDepth = Annotated[
+    int | None,
+    typer.Option(min=1, help=f"Deepest rule node (default: {ge_default('max_depth') or 'none'})."),
+]
 _Horizon = Annotated[
     int | None,
     typer.Option(

@@ -16,7 +16,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 
 from gaitgram.backends.api import Evaluator
 from gaitgram.cli.common import check_output, err, fail, load_usable
-from gaitgram.cli.options import Defines, parse_defines
+from gaitgram.cli.options import REPRESENTATIONS, Defines, listed, parse_defines
 from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint
 from gaitgram.evolution.config import (
     NESTED,
@@ -35,10 +35,13 @@ from gaitgram.fileio import DirectoryInUse, DirectoryLock
 from gaitgram.language.source import SourceError, read_source
 from gaitgram.pipeline import DEFAULT_BACKEND, Pipeline, PipelineError
 from gaitgram.strategies.api import GenerationStats, StrategyError
+from gaitgram.strategies.registry import BUILTIN as STRATEGIES
 from gaitgram.strategies.registry import load_strategy, run_pipeline
 
 #: What makes a run refused before it starts (exit 2).
 _INPUT_ERRORS = (ConfigError, PipelineError, RunDirectoryError, CheckpointError, TransferError)
+#: What a run is without a config file or flags: the defaults help shows.
+_DEFAULT = RunConfig()
 
 
 _Grammar = Annotated[
@@ -49,11 +52,16 @@ _Config = Annotated[
     Path | None, typer.Option("--config", "-c", help="A run.toml with any of the keys in docs/evolve.md.")
 ]
 _Generations = Annotated[
-    int | None, typer.Option(min=1, help="Generations after the initial one (default 50).")
+    int | None,
+    typer.Option(min=1, help=f"Generations after the initial one (default {_DEFAULT.generations})."),
 ]
-_Population = Annotated[int | None, typer.Option(min=2, help="Population size (default 75).")]
-_Runs = Annotated[int | None, typer.Option(min=1, help="Independent runs with derived seeds (default 1).")]
-_Seed = Annotated[int | None, typer.Option(min=0, help="Random seed (default 0).")]
+_Population = Annotated[
+    int | None, typer.Option(min=2, help=f"Population size (default {_DEFAULT.population}).")
+]
+_Runs = Annotated[
+    int | None, typer.Option(min=1, help=f"Independent runs with derived seeds (default {_DEFAULT.runs}).")
+]
+_Seed = Annotated[int | None, typer.Option(min=0, help=f"Random seed (default {_DEFAULT.seed}).")]
 _Backend = Annotated[
     str | None,
     typer.Option(help=f"Fitness backend (default: the grammar's @backend, else {DEFAULT_BACKEND})."),
@@ -61,15 +69,14 @@ _Backend = Annotated[
 _Strategy = Annotated[
     str | None,
     typer.Option(
-        help="Search strategy: ge (default), random, cma-es, nsga2, map-elites, or a plug-in's "
-        "(docs/strategies.md)."
+        help=f"Search strategy: {listed(STRATEGIES, _DEFAULT.strategy)}, or a plug-in's (docs/strategies.md)."
     ),
 ]
 _Representation = Annotated[
     str | None,
     typer.Option(
-        help="What a genome is: ge (default: codons), pige, sge, dsge, cfg-gp, or a plug-in's; its "
-        "settings in the --config file's [representation_settings] (docs/ge.md)."
+        help=f"What a genome is: {listed(REPRESENTATIONS, _DEFAULT.representation)}, or a plug-in's; "
+        "its settings in the --config file's [representation_settings] (docs/ge.md)."
     ),
 ]
 _Threads = Annotated[

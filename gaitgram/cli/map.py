@@ -14,10 +14,10 @@ from rich.console import Console
 from gaitgram import jsonio
 from gaitgram.analysis.motion_text import ClosedLoops, closed_loops
 from gaitgram.cli.common import compiled_or_exit, err, fail, load_usable, read_genome
-from gaitgram.cli.options import Defines, Representation, RepresentationSettings, parse_defines
+from gaitgram.cli.options import Defines, Representation, RepresentationSettings, ge_default, parse_defines
 from gaitgram.ge import CodonMode, python_filter
 from gaitgram.ge.derivation import Derivation
-from gaitgram.ge.registry import Compiled, mapping_summary
+from gaitgram.ge.registry import DEFAULT_REPRESENTATION, Compiled, mapping_summary
 from gaitgram.ge.visualise import GraphvizMissing, TreeTooLarge, check_derivation_size, render_tree
 
 
@@ -26,6 +26,18 @@ class TreeFormat(StrEnum):
     DOT = "dot"
     SVG = "svg"
     MERMAID = "mermaid"
+
+
+_Codons = Annotated[
+    CodonMode | None,
+    typer.Option(help=f"GE: lazy (GEVA, the paper) or eager (PonyGE2); default {ge_default('codons')}."),
+]
+_MaxWraps = Annotated[
+    int | None,
+    typer.Option(
+        min=0, help=f"W wraps allow W+1 passes over the genome (GE: default {ge_default('max_wraps')})."
+    ),
+]
 
 
 def command(
@@ -37,14 +49,10 @@ def command(
     genome_file: Annotated[
         Path | None, typer.Option(help="Read the genome from a file; - for standard input.")
     ] = None,
-    representation: Representation = "ge",
+    representation: Representation = DEFAULT_REPRESENTATION,
     setting: RepresentationSettings = None,
-    codons: Annotated[
-        CodonMode | None, typer.Option(help="GE: lazy (GEVA, the paper; default) or eager (PonyGE2).")
-    ] = None,
-    max_wraps: Annotated[
-        int | None, typer.Option(min=0, help="W wraps allow W+1 passes over the genome (GE: default 3).")
-    ] = None,
+    codons: _Codons = None,
+    max_wraps: _MaxWraps = None,
     max_depth: Annotated[int | None, typer.Option(min=1, help="Deepest allowed rule node.")] = None,
     tree: Annotated[TreeFormat | None, typer.Option(help="Also print the derivation tree.")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,

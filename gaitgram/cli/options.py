@@ -4,10 +4,27 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Callable
-from typing import Annotated
+from collections.abc import Callable, Iterable
+from typing import Annotated, Any
 
 import typer
+
+from gaitgram.ge.registry import BUILTIN as REPRESENTATIONS
+from gaitgram.ge.registry import DEFAULT_REPRESENTATION
+
+
+def ge_default(name: str) -> Any:
+    """GE's default for its setting ``name``, for a help text: read from GE's declaration
+    (:data:`gaitgram.ge.classic.SETTINGS`), never copied, so that help cannot drift from it."""
+    from gaitgram.ge.classic import REPRESENTATION as GE  # only where a command's help shows one
+
+    return GE.defaults[name]
+
+
+def listed(names: Iterable[str], default: str) -> str:
+    """``ge (default), pige, sge``: built-in names for a help text, the default marked."""
+    return ", ".join(f"{name} (default)" if name == default else name for name in names)
+
 
 Defines = Annotated[
     list[str] | None,
@@ -36,7 +53,8 @@ Representation = Annotated[
     str,
     typer.Option(
         "--representation",
-        help="What a genome is: ge (default: codons), pige, sge, dsge, cfg-gp, or a plug-in's (docs/ge.md).",
+        help=f"What a genome is: {listed(REPRESENTATIONS, DEFAULT_REPRESENTATION)}, or a plug-in's "
+        "(docs/ge.md).",
     ),
 ]
 #: ``map``, ``sample``, ``compile``, ``test``: a representation setting, as JSON or else text.

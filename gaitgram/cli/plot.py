@@ -19,7 +19,7 @@ from gaitgram.cli.common import (
     require_extra,
     write_or_exit,
 )
-from gaitgram.cli.options import Defines, Representation, RepresentationSettings, parse_defines
+from gaitgram.cli.options import Defines, Representation, RepresentationSettings, ge_default, parse_defines
 from gaitgram.ge import CodonMode
 from gaitgram.ge.registry import DEFAULT_REPRESENTATION
 
@@ -34,9 +34,12 @@ def command(
     genome_file: Annotated[Path | None, typer.Option(help="The genome from a file; - for stdin.")] = None,
     seed: Annotated[bool, typer.Option(help="Draw the bundled seed curves dashed.")] = True,
     codons: Annotated[
-        CodonMode | None, typer.Option(help="GE: lazy (default) or eager codon consumption.")
+        CodonMode | None,
+        typer.Option(help=f"GE: lazy or eager codon consumption (default {ge_default('codons')})."),
     ] = None,
-    max_wraps: Annotated[int | None, typer.Option(min=0, help="GE: wraps allowed (default 3).")] = None,
+    max_wraps: Annotated[
+        int | None, typer.Option(min=0, help=f"GE: wraps allowed (default {ge_default('max_wraps')}).")
+    ] = None,
     representation: Representation = DEFAULT_REPRESENTATION,
     setting: RepresentationSettings = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite OUTPUT.")] = False,

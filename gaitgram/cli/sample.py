@@ -13,7 +13,7 @@ import typer
 from gaitgram import jsonio
 from gaitgram.analysis.facts import GrammarFacts
 from gaitgram.cli.common import compiled_or_exit, fail, load_usable
-from gaitgram.cli.options import Defines, Representation, RepresentationSettings, parse_defines
+from gaitgram.cli.options import Defines, Representation, RepresentationSettings, ge_default, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper
 from gaitgram.ge.initialisation import (
     GeneratedTree,
@@ -24,6 +24,10 @@ from gaitgram.ge.initialisation import (
 )
 from gaitgram.ge.registry import DEFAULT_REPRESENTATION, Compiled
 
+#: GE's initial depth and codon consumption, as a run's are by default.
+_INIT_DEPTH = ge_default("init_max_depth")
+_CODONS = CodonMode(ge_default("codons"))
+
 
 def command(
     grammar: Annotated[Path, typer.Argument(help="The grammar.", show_default=False)],
@@ -32,12 +36,13 @@ def command(
         Method | None, typer.Option(help="GE: grow, full, or ramped (half each, depths ramped; default).")
     ] = None,
     max_depth: Annotated[
-        int | None, typer.Option(min=1, help="Deepest rule node (GE: default 10; else the setting's).")
+        int | None,
+        typer.Option(min=1, help=f"Deepest rule node (GE: default {_INIT_DEPTH}; else the setting's)."),
     ] = None,
     seed: Annotated[int, typer.Option(help="Random seed: the same seed gives the same samples.")] = 0,
     codons: Annotated[
         CodonMode, typer.Option(help="GE: codon consumption the genomes are made for.")
-    ] = CodonMode.LAZY,
+    ] = _CODONS,
     representation: Representation = DEFAULT_REPRESENTATION,
     setting: RepresentationSettings = None,
     as_json: Annotated[bool, typer.Option("--json", help="One JSON object per line.")] = False,
@@ -54,7 +59,9 @@ def command(
         return
     mapper = compile_mapper(result.grammar, codons=codons, max_wraps=0)
     try:
-        for tree in _trees(result.facts, rng, count, method or Method.RAMPED, max_depth or 10, codons):
+        for tree in _trees(
+            result.facts, rng, count, method or Method.RAMPED, max_depth or _INIT_DEPTH, codons
+        ):
             mapped = mapper.map_fast(tree.genome)
             if as_json:
                 record = {

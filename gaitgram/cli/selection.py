@@ -11,7 +11,7 @@ from typing import Annotated, Any
 import typer
 
 from gaitgram.cli.common import decode_genome, load_usable, read_genome_text, read_inputs
-from gaitgram.cli.options import parse_defines
+from gaitgram.cli.options import ge_default, parse_defines
 from gaitgram.evolution.checkpoint import CheckpointError
 from gaitgram.evolution.config import ConfigError, load_config
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, run_input
@@ -44,9 +44,12 @@ GenomeFile = Annotated[
     Path | None, typer.Option("--genome-file", help="Read the genome from a file; - for standard input.")
 ]
 Codons = Annotated[
-    CodonMode | None, typer.Option("--codons", help="Codon consumption, lazy or eager (default lazy).")
+    CodonMode | None,
+    typer.Option("--codons", help=f"Codon consumption, lazy or eager (default {ge_default('codons')})."),
 ]
-MaxWraps = Annotated[int | None, typer.Option("--max-wraps", min=0, help="Wraps allowed (default 3).")]
+MaxWraps = Annotated[
+    int | None, typer.Option("--max-wraps", min=0, help=f"Wraps allowed (default {ge_default('max_wraps')}).")
+]
 
 #: The command-line spelling of each override, for messages.
 _FLAGS = {
