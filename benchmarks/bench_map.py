@@ -1,7 +1,7 @@
 """Mapping speed: genomes/s on the 200 vector genomes of ``concat.bnf`` (200 codons, 3 wraps).
 
 Baseline: a plain dict-and-stack mapper of the kind anyone would write first
-(DESIGN §3 measured about 28,000 genomes/s for one; PonyGE2's own mapper does
+(measured at about 28,000 genomes/s when the mapper was designed; PonyGE2's own mapper does
 about 12,000/s). Target for gaitgram's fast path: 60,000 genomes/s, eager.
 """
 

@@ -4,7 +4,7 @@ Every problem gaitgram reports, from the parser or the linter, is a :class:`Diag
 :class:`Code`. A code is declared once, in the module that finds its problem, beside the
 function that reports it: its stable number and name, its severity, what it means, what to do
 about it and what its fixes do. The catalogue of every code
-(:data:`gaitgram.analysis.catalogue.CODES`) gathers those declarations; ``docs/diagnostics.md``,
+(:data:`gaitgram.analysis.diagnostic_codes.CODES`) gathers those declarations; ``docs/diagnostics.md``,
 SARIF's rule metadata and the language server read them from there. Codes never change meaning
 once released; new problems get new codes.
 

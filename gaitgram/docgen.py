@@ -2,7 +2,7 @@
 
 The documentation site (``mkdocs.yml``, its hook ``docs/_site/hooks.py``) builds its CLI
 reference from the ``gaitgram`` command tree, as ``--help`` shows it, and the catalogue of
-``docs/diagnostics.md`` from :data:`gaitgram.analysis.catalogue.CODES`. The catalogue's sections are
+``docs/diagnostics.md`` from :data:`gaitgram.analysis.diagnostic_codes.CODES`. The catalogue's sections are
 also kept in the Markdown file itself, between markers, for readers of the repository and for
 the links of ``gaitgram check --format sarif``; ``python -m gaitgram.docgen docs/diagnostics.md``
 rewrites them (``--check``: exit 1 if the file is not current, which the tests check too).
@@ -16,7 +16,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
-from gaitgram.analysis.catalogue import CODES
+from gaitgram.analysis.diagnostic_codes import CODES
 
 #: ``<!-- generated: NAME -->`` ... ``<!-- end generated: NAME -->`` hold what :data:`SECTIONS` makes.
 BEGIN, END = "<!-- generated: {} (python -m gaitgram.docgen) -->", "<!-- end generated: {} -->"

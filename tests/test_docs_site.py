@@ -1,6 +1,6 @@
 """The documentation site (``mkdocs.yml``): it builds with ``--strict``, and its generated pages are
 generated from the code: the CLI reference from the commands, the diagnostics catalogue from
-``gaitgram.analysis.catalogue.CODES``, the API pages from the plug-in modules."""
+``gaitgram.analysis.diagnostic_codes.CODES``, the API pages from the plug-in modules."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ import pytest
 import typer
 
 from gaitgram import docgen
-from gaitgram.analysis.catalogue import CODES
+from gaitgram.analysis.diagnostic_codes import CODES
 from gaitgram.cli import app
 
 ROOT = Path(__file__).resolve().parents[1]

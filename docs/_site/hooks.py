@@ -2,7 +2,7 @@
 
 - ``index.md``: the repository's README.md, its links made the site's;
 - ``reference/cli.md``: the CLI reference, from the ``gaitgram`` commands themselves;
-- ``diagnostics.md``: its catalogue sections regenerated from ``gaitgram.analysis.catalogue.CODES``;
+- ``diagnostics.md``: its catalogue sections regenerated from ``gaitgram.analysis.diagnostic_codes.CODES``;
 - ``results/index.md``: the committed study reports, listed.
 
 The Markdown files stay readable where they are (on a forge, in an editor): links that leave

@@ -15,7 +15,7 @@ from typing import Any
 from urllib.parse import quote
 
 import gaitgram
-from gaitgram.analysis.catalogue import CODES
+from gaitgram.analysis.diagnostic_codes import CODES
 from gaitgram.analysis.report import CheckedFile, effective_severity, machine_json
 from gaitgram.diagnostics import Code, Fix, Severity
 from gaitgram.language.source import SourceError, SourceText, Span

@@ -1,6 +1,6 @@
 """The GE mapper: a grammar compiled once into flat tables, then genomes mapped many times.
 
-Semantics (DESIGN §3): depth-first, leftmost non-terminal first;
+Semantics (docs/ge.md, Mapping): depth-first, leftmost non-terminal first;
 ``choice = codon % n_choices``; a typed range is one choice set. Codons are read
 in order and wrap around the genome; with ``max_wraps = W`` at most
 ``len(genome) * (W + 1)`` can be read. In ``eager`` mode (PonyGE2) every

@@ -3,7 +3,7 @@
 Every code here is declared (what it means, what to do about it, what its fix does) beside the
 function that reports it: its message, hint and fixes. The builder (:mod:`~gaitgram.language.
 builder`) calls these where it meets the problem as it reads the text; the catalogue
-(:mod:`gaitgram.analysis.catalogue`) lists the declarations for the docs, SARIF and editors.
+(:mod:`gaitgram.analysis.diagnostic_codes`) lists the declarations for the docs, SARIF and editors.
 Problems of ranges, annotations and the document's settings are declared with their readers
 (:mod:`~gaitgram.language.ranges`, :mod:`~gaitgram.language.look_alikes`,
 :mod:`~gaitgram.language.annotations`, :mod:`~gaitgram.language.meaning`).

@@ -49,7 +49,7 @@ class CurveRecipe:
     second_share: float
 
 
-#: Published walking ranges of motion (DESIGN §4): carpus 54, tarsus 40, fore fetlock 45,
+#: Published walking ranges of motion (seeds/README.md, provenance): carpus 54, tarsus 40, fore fetlock 45,
 #: hind fetlock 60, elbow 45, hip 23, neck 45 in all; less certain: shoulder 25, stifle 40.
 RECIPES: dict[str, CurveRecipe] = {
     "shoulder_fore": CurveRecipe(25, 0.0, 0.75, 0.30, 0.25),

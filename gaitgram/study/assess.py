@@ -1,6 +1,6 @@
 """Kept gaits measured beyond their scores, once, into the study directory: ``gaitgram report --assess``.
 
-The report's realism and robustness sections (:mod:`gaitgram.study.kept_gaits`) need simulation:
+The report's realism and robustness sections (:mod:`gaitgram.study.realism_robustness`) need simulation:
 each run's best gait (its last checkpoint's best, which ``best.json`` records) is measured by the
 backend that scored it (``BackendSpec.assess``: on the horse, beside the DLC_Horse walks and
 under each disturbance), which declares what it keeps (``BackendSpec.assessment``). That is slow, so

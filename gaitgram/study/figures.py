@@ -18,8 +18,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from gaitgram.study.escape import printable
-from gaitgram.study.kept_gaits import RealismCurves
 from gaitgram.study.model import Convergence, Fronts, RepertoireMap
+from gaitgram.study.realism_robustness import RealismCurves
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -15,8 +15,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from gaitgram.study import escape
-from gaitgram.study.kept_gaits import ASSESS_TEXT, ArmAssessed, Assessed
 from gaitgram.study.model import Column, Kind, Section, Table
+from gaitgram.study.realism_robustness import ASSESS_TEXT, ArmAssessed, Assessed
 from gaitgram.study.records import ArmRecord
 from gaitgram.study.stats import holm, wilson_interval
 

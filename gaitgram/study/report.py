@@ -63,14 +63,6 @@ from gaitgram.study.formats import brief, text_files
 from gaitgram.study.gallery import check_cells, draws, gaits_section, render_gaits, spread_cells
 from gaitgram.study.graded import graded_section
 from gaitgram.study.html import html
-from gaitgram.study.kept_gaits import (
-    arm_curves_figure,
-    load_assessed,
-    measured_nothing,
-    realism_section,
-    robustness_section,
-    unmeasured_section,
-)
 from gaitgram.study.manifest import study_holds
 from gaitgram.study.model import (
     Gait,
@@ -83,6 +75,14 @@ from gaitgram.study.model import (
     spread_section,
     start_section,
     walk_rates_section,
+)
+from gaitgram.study.realism_robustness import (
+    arm_curves_figure,
+    load_assessed,
+    measured_nothing,
+    realism_section,
+    robustness_section,
+    unmeasured_section,
 )
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable, load_arms, scoring_listing
 from gaitgram.study.usage import usage_section

@@ -10,7 +10,7 @@ import pytest
 
 import gaitgram
 from gaitgram.analysis import check
-from gaitgram.analysis.catalogue import CODES, CODES_BY_NAME
+from gaitgram.analysis.diagnostic_codes import CODES, CODES_BY_NAME
 from gaitgram.analysis.lint.rule_checks import UNREACHABLE_RULE
 from gaitgram.diagnostics import Code, Fix, Severity, TextEdit
 from gaitgram.language import parse

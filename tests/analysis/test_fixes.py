@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from conftest import GRAMMARS
 from gaitgram.analysis import CheckResult, check
-from gaitgram.analysis.catalogue import CODES
+from gaitgram.analysis.diagnostic_codes import CODES
 from gaitgram.analysis.fixes import chosen_fix, combine, error_keys, fix_all, fix_source, no_worse
 from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit
 from gaitgram.language import parse

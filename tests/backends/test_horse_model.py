@@ -178,7 +178,7 @@ def test_load_model_gives_independent_copies() -> None:
 
 def test_layout_figures(layout: HorseLayout, body: Body) -> None:
     scale = body.withers / BODIES["horse"].withers
-    assert 1.1 * scale * body.leg <= layout.hip_height <= 1.2 * scale  # DESIGN.md 5, legs as proportioned
+    assert 1.1 * scale * body.leg <= layout.hip_height <= 1.2 * scale  # legs as bodies.toml proportions them
     assert layout.hip_height <= body.nominal_hip_height + 1e-9  # a time budget sized by it suffices
     assert 1.0 * scale * body.leg <= layout.standing_height <= 1.4 * scale
     assert layout.total_mass == pytest.approx(body.mass, rel=1e-6)

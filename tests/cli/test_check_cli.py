@@ -222,7 +222,7 @@ def test_console_script_runs_as_a_module(broken: Path) -> None:
 
 
 def test_every_diagnostic_code_is_documented() -> None:
-    from gaitgram.analysis.catalogue import CODES
+    from gaitgram.analysis.diagnostic_codes import CODES
 
     documented = (GRAMMARS.parent / "docs" / "diagnostics.md").read_text()
     for code in CODES.values():

@@ -17,7 +17,7 @@ import pytest
 from typer.testing import CliRunner
 
 from conftest import ROOT
-from gaitgram.analysis.catalogue import CODES
+from gaitgram.analysis.diagnostic_codes import CODES
 from gaitgram.cli import app
 
 runner = CliRunner()

@@ -335,7 +335,7 @@ def test_a_report_over_the_first_runs_measures_their_best_walk_apart(
 
 def test_the_terms_a_disturbed_gait_failed_are_counted_from_its_detail() -> None:
     from gaitgram.backends.registry import get_backend
-    from gaitgram.study.kept_gaits import Trial, _failing_terms
+    from gaitgram.study.realism_robustness import Trial, _failing_terms
 
     declared = get_backend("mujoco-horse").assessment
     assert declared is not None

@@ -6,10 +6,12 @@ the task (:mod:`~gaitgram.backends.mujoco_horse.task`) turns recordings into
 measures, a fitness and walk verdicts.
 
 A gait is played from the standing horse: the curves blend in over the ramp, then
-``warmup_cycles`` of its own cycles settle it (unscored), then ``cycles`` cycles are
-scored. :meth:`HorseEvaluator.evaluate` simulates that much; :meth:`HorseEvaluator.verify`
-goes on to ``horizon_cycles`` and checks that the gait stays upright (and, for a
-walk, a walk) for every one of them: the check that the gaits a run keeps must pass. With
+the whole cycles of its own that last ``warmup_seconds`` settle it (unscored; at least
+``MIN_WARMUP_CYCLES``, :func:`~gaitgram.backends.mujoco_horse.settings.warmup_cycles`), then
+``cycles`` cycles are scored. :meth:`HorseEvaluator.evaluate` simulates that much;
+:meth:`HorseEvaluator.verify` goes on to ``horizon_cycles`` and checks that the gait stays
+upright (and, for a walk, a walk) for every one of them: the check that the gaits a run keeps
+must pass. With
 ``bump_floors``, each gait that stands is also scored on those floors of bumps, each by an
 evaluator of its own on that floor's model, and its fitness is the mean (:func:`on_floors`).
 
