@@ -254,7 +254,7 @@ def latex(report: StudyReport) -> str:
 # ---- the terminal ----------------------------------------------------------------------------------
 
 #: The summary's columns the terminal shows (by key), of those :func:`summary_table` has.
-_BRIEF_COLUMNS = ("arm", "runs", "mean_best", "median_best", "unviable_share", "walk_rate")
+_BRIEF_COLUMNS = ("arm", "representation", "runs", "mean_best", "median_best", "unviable_share", "walk_rate")
 #: At most this many arms' rows and this many pairs that differ: a study of many arms still fits
 #: a screen (every row is in summary.md).
 BRIEF_ARMS = 10

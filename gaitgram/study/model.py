@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from gaitgram.backends.api import Verdict
+from gaitgram.ge.registry import DEFAULT_REPRESENTATION
 from gaitgram.strategies.kept import Front, Repertoire
 from gaitgram.study import escape
 from gaitgram.study.records import ArmRecord, ReportError, check_comparable, scoring_listing
@@ -272,6 +273,7 @@ class ArmSummary:
     walk_held_rate: float | None
     walks: int | None = None  # runs whose best gait is a walk
     walk_rate_ci: tuple[float, float] | None = None  # Wilson's 95 % interval
+    representation: str = DEFAULT_REPRESENTATION  # what the runs' genomes are
 
     @property
     def walk_rate_cell(self) -> tuple[float, float, float] | None:
@@ -299,6 +301,7 @@ def summarise(arm: ArmRecord) -> ArmSummary:
         arm.walk_held_rate,
         arm.walks,
         None if arm.walks is None else wilson_interval(arm.walks, len(arm.runs)),
+        arm.representation,
     )
 
 
@@ -321,10 +324,17 @@ ONE_ARM_NOTE = (
 )
 
 
+def names_representations(summaries: Sequence[ArmSummary]) -> bool:
+    """Whether the report names each arm's representation: when any arm's is not GE (a report of GE
+    arms alone reads as it always did)."""
+    return any(s.representation != DEFAULT_REPRESENTATION for s in summaries)
+
+
 def summary_table(summaries: Sequence[ArmSummary]) -> Table:
-    """The paper's Table 4/5 layout, with the statistics it did not compute."""
+    """The paper's Table 4/5 layout, with the statistics it did not compute; each arm's
+    representation beside its name when not every arm is GE."""
     value = Kind.VALUE
-    return Table(
+    table = Table(
         "summary",
         (
             Column("arm", "arm", Kind.TEXT),
@@ -354,6 +364,16 @@ def summary_table(summaries: Sequence[ArmSummary]) -> Table:
                 s.walk_held_rate,
             )
             for s in summaries
+        ),
+    )
+    if not names_representations(summaries):
+        return table
+    column = Column("representation", "representation", Kind.TEXT)
+    return replace(
+        table,
+        columns=(table.columns[0], column, *table.columns[1:]),
+        rows=tuple(
+            (row[0], s.representation, *row[1:]) for row, s in zip(table.rows, summaries, strict=True)
         ),
     )
 
@@ -687,6 +707,7 @@ class StudyReport:
     def as_json(self) -> dict[str, Any]:
         """The summary in its committed layout, then the further sections' tables and tests (if any
         section has either)."""
+        shown = names_representations(self.summaries)
         data: dict[str, Any] = {
             "backend": self.arms[0].backend,
             "backend_version": self.arms[0].backend_version,
@@ -715,6 +736,8 @@ class StudyReport:
                     **({"scoring": {k: json.loads(v) for k, v in a.scoring}} if a.scoring else {}),
                     # read at its first runs alone (report --runs): it holds more
                     **({"first_runs": a.window} if a.window is not None else {}),
+                    # what its genomes are, where not every arm's is GE's
+                    **({"representation": s.representation} if shown else {}),
                 }
                 for s, a in zip(self.summaries, self.arms, strict=True)
             ],

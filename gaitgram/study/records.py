@@ -26,6 +26,7 @@ from gaitgram.backends.api import Verdict
 from gaitgram.backends.registry import get_backend
 from gaitgram.evolution.rundir import RunDirectoryError, read_manifest, saved_config
 from gaitgram.evolution.usage import RunUsage, UsageError, read_usage
+from gaitgram.ge.registry import DEFAULT_REPRESENTATION
 from gaitgram.language.source import path_problem
 from gaitgram.pipeline import DEFAULT_BACKEND
 from gaitgram.plugins import PluginLoadError, PluginNotFound
@@ -92,6 +93,8 @@ class ArmRecord:
     #: Only the arm's first ``window`` runs are read (``gaitgram report --runs``, a study that has
     #: grown since a report was made over fewer); None: all it plans.
     window: int | None = None
+    #: What the runs' genomes are (``gaitgram.ge.registry``), from the configuration.
+    representation: str = DEFAULT_REPRESENTATION
 
     @property
     def numbers(self) -> tuple[int, ...]:
@@ -202,6 +205,7 @@ def load_arm(
         verdict,
         scoring,
         window,
+        config.representation,
     )
 
 
