@@ -308,9 +308,10 @@ class DSGE:
 
 def describe_rule(cfg: Cfg, rule: int) -> str | None:
     """Where a rule's values lie in a DSGE genome."""
+    n = len(cfg.choices[rule])
     return (
-        f"DSGE: gene {rule} of {len(cfg)}, a value per expansion of `<{cfg.names[rule]}>`, grown as "
-        "the derivation needs"
+        f"DSGE gene {rule} of {len(cfg)}: a value per expansion of `<{cfg.names[rule]}>`, each one of its "
+        f"{n:,} choice{'s' if n > 1 else ''}, grown as the derivation needs"
     )
 
 

@@ -481,6 +481,11 @@ class SGE:
         return self._checked(json_genes(value, self.genes))
 
 
+#: The largest grammar (in rules) the editor's hover unrolls: unrolling grows faster than the
+#: grammar (a 1,000-rule recursive grammar takes a second), and a hover must answer at once.
+MAX_DESCRIBED_RULES = 300
+
+
 @lru_cache(maxsize=8)
 def _unrolled(cfg: Cfg, level: int) -> Unrolled | None:
     """A grammar's unrolled tables for the editor (None: too large to unroll)."""
@@ -492,18 +497,28 @@ def _unrolled(cfg: Cfg, level: int) -> Unrolled | None:
 
 
 def describe_rule(cfg: Cfg, rule: int) -> str | None:
-    """Where a rule's values lie in an SGE genome at the default recursion level."""
+    """A rule's genes in an SGE genome at the default recursion level (the editor knows no run's
+    settings), each with its size: the most expansions it can take, a value (a choice) each."""
     level = _DEFAULTS["recursion"]
+    if len(cfg) > MAX_DESCRIBED_RULES:
+        return (
+            f"SGE: a grammar of {len(cfg):,} rules is not unrolled here; "
+            f"`gaitgram compile G --representation sge -o -` lists its genes"
+        )
     unrolled = _unrolled(cfg, level)
     if unrolled is None:
-        return f"SGE: at recursion level {level} this grammar's genome is too large to hold"
+        return f"SGE: at recursion level {level} (the default) this grammar's genome is too large to hold"
     genes = [e for e in range(unrolled.genes) if unrolled.origin[e] == rule and unrolled.sizes[e]]
     if not genes:
-        return f"SGE: no gene (no derivation at recursion level {level} expands it)"
-    listed = ", ".join(f"{e} `<{unrolled.names[e]}>` ({unrolled.sizes[e]:,})" for e in genes)
+        return f"SGE: no gene (no derivation at recursion level {level}, the default, expands it)"
+    n = len(cfg.choices[rule])
+    listed = "; ".join(
+        f"{e} `<{unrolled.names[e]}>`: {unrolled.sizes[e]:,} value{'s' if unrolled.sizes[e] > 1 else ''}"
+        for e in genes
+    )
     return (
-        f"SGE (recursion level {level}): gene{'s' if len(genes) > 1 else ''} {listed} of {unrolled.genes}, "
-        "values in brackets: the most expansions each can take"
+        f"SGE gene{'s' if len(genes) > 1 else ''} (recursion level {level}, the default; "
+        f"{unrolled.genes} genes in all): {listed}; each value one of its {n:,} choice{'s' if n > 1 else ''}"
     )
 
 

@@ -1,7 +1,8 @@
 """Hover: what gaitgram knows about the thing under the cursor, as Markdown.
 
 A rule name shows the rule's productions and its facts (choices, minimum depth, productive,
-reachable, recursive) and, for a ``@joint`` rule, the joint; a typed range its values; a sensor
+reachable, recursive), for a ``@joint`` rule the joint, and what the rule is in the genomes of the
+representations that say (SGE's and DSGE's genes); a typed range its values; a sensor
 in a curve's text what it reads (its description, unit, whether per limb or periodic, its reading
 at rest); an annotation its documentation; an argument what it names (by its parameter's
 ``refers``: a backend, a joint with its limits and freedom schedule). The hints of the diagnostics
@@ -17,6 +18,12 @@ from gaitgram.analysis.motion_text import sensor_uses
 from gaitgram.backends.catalogue import Joint
 from gaitgram.backends.registry import BackendLoadError, BackendNotFound, get_backend
 from gaitgram.backends.sensors import Sensor
+from gaitgram.ge.registry import (
+    RepresentationLoadError,
+    RepresentationNotFound,
+    get_representation,
+    representation_names,
+)
 from gaitgram.ide.navigation import name_at
 from gaitgram.language.annotations import ANNOTATIONS, AnnotationKind, Refers, parameter_of
 from gaitgram.language.model import Annotation, Grammar, JointDecl, Name, RangeSpec, RangeSymbol
@@ -27,6 +34,7 @@ __all__ = [
     "annotation_doc",
     "catalogue_joint",
     "describe_backend",
+    "describe_genes",
     "describe_joint",
     "describe_range",
     "describe_rule",
@@ -124,7 +132,28 @@ def describe_rule(result: CheckResult, name: str) -> str:
     joint = grammar.joints_by_rule.get(name)
     if joint is not None:
         parts.append(describe_joint(joint.joint, grammar.backend, joint, grammar.units))
+    parts += describe_genes(result, name)
     return "\n\n".join(parts)
+
+
+def describe_genes(result: CheckResult, name: str) -> list[str]:
+    """What a rule is in the genome of each installed representation that declares it
+    (``describe_rule``: SGE's genes and their sizes, DSGE's gene), from the grammar alone: a
+    document has no run configuration, so at each representation's default settings."""
+    cfg = result.facts.cfg
+    rule = cfg.index.get(name)
+    if rule is None:
+        return []
+    lines = []
+    for representation in representation_names():
+        try:
+            spec = get_representation(representation)
+        except (RepresentationNotFound, RepresentationLoadError):  # a broken plug-in says nothing
+            continue
+        line = spec.describe_rule(cfg, rule) if spec.describe_rule is not None else None
+        if line:
+            lines.append(line)
+    return lines
 
 
 def _production(text: str) -> str:
