@@ -14,12 +14,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from gaitgram.backends.registry import get_backend
 from gaitgram.ge import Derivation
 from gaitgram.ge.mapper import Mapper
+from gaitgram.ge.registry import Compiled, Genome
 from gaitgram.language.model import FREQUENCY, Grammar
 from gaitgram.motion.expression import Motion, compile_motion, phase_grid
 from gaitgram.motion.gait import Sensors, cycle_frequency, sensed_curve
@@ -38,6 +40,10 @@ class Context:
     samples: int = 256
     #: The backend's sensors, which curves may read (None: it senses nothing).
     sensors: Sensors | None = None
+    #: Another representation than GE whose genomes are tested, and the genome of the derivation
+    #: at hand (None: GE's, read off the derivation's codons).
+    representation: Compiled | None = None
+    genome: Genome | None = None
 
     @classmethod
     def of(cls, grammar: Grammar, mapper: Mapper, max_depth: int) -> Context:
@@ -74,18 +80,25 @@ def nominal_curve(
 Property = Callable[[Derivation, Context], None]
 
 
+def _mapped(derivation: Derivation, context: Context, *, copy: bool = False) -> Any:
+    """The derivation's genome mapped again: through its representation's mapping where it is not
+    GE's, else GE's codons read off the tree (``copy``: as a new list)."""
+    if context.representation is not None and context.genome is not None:
+        return context.representation.map_many([context.genome])[0]
+    genome = _genome(derivation)
+    return context.mapper.map_fast(list(genome) if copy else genome)
+
+
 def maps_cleanly(derivation: Derivation, context: Context) -> None:
     """Mapping its genome again gives a valid derivation with a phenotype (no exception, no invalid)."""
-    again = context.mapper.map_fast(_genome(derivation))
+    again = _mapped(derivation, context)
     if not again.valid or again.phenotype != derivation.phenotype:
         raise PropertyFailed(f"remapping gives {again.phenotype!r} ({again.reason})")
 
 
 def is_deterministic(derivation: Derivation, context: Context) -> None:
     """The same genome maps to the same phenotype and joints every time."""
-    genome = _genome(derivation)
-    first, second = context.mapper.map_fast(genome), context.mapper.map_fast(list(genome))
-    if first != second:
+    if _mapped(derivation, context) != _mapped(derivation, context, copy=True):
         raise PropertyFailed("two mappings of the same genome differ")
 
 

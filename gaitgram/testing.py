@@ -16,12 +16,18 @@ Derivations are built top-down from drawn choice indices, with the minimum-depth
 analysis keeping every tree within ``max_depth``; choices are ordered shallowest
 first, so failures shrink toward shallow trees and low choice indices, and the
 genome of each derivation is read off its choices (short genomes shrink shorter).
+
+Another representation than GE (``representation="sge"``, with its ``settings``) gives the
+derivations of the genomes its own initialisation makes, as a run's first generation, each from a
+drawn seed: they keep to the representation's depth limits, but shrink toward one genome (seed
+0's) rather than toward small trees.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from functools import cache
+from typing import Any
 
 import numpy as np
 from hypothesis import strategies as st
@@ -29,11 +35,12 @@ from hypothesis import strategies as st
 from gaitgram.analysis import GrammarFacts, analyse
 from gaitgram.ge import CodonMode, Derivation, compile_mapper
 from gaitgram.ge.mapper import Mapper
+from gaitgram.ge.registry import DEFAULT_REPRESENTATION, Compiled, Genome, compile_representation
 from gaitgram.language.model import FREQUENCY, Grammar
 from gaitgram.motion.expression import Motion, compile_motion
 from gaitgram.properties import backend_sensors, nominal_curve
 
-__all__ = ["derivations", "genomes", "motions", "phenotypes"]
+__all__ = ["compiled_representation", "derivations", "genomes", "initial_genomes", "motions", "phenotypes"]
 
 #: Codons drawn by ``genomes``: small values shrink best and still select every choice.
 DEFAULT_CODON_SIZE = 1_000
@@ -63,14 +70,46 @@ def genomes(
     return st.lists(st.integers(0, codon_size - 1), min_size=min_size, max_size=max_size).map(tuple)
 
 
+def compiled_representation(
+    grammar: Grammar, name: str, settings: Mapping[str, Any] | None = None
+) -> Compiled:
+    """Representation ``name`` compiled for ``grammar`` with ``settings`` (checked; the rest at
+    their defaults), for :func:`initial_genomes`."""
+    return compile_representation(grammar, _facts(grammar), name, settings or {})
+
+
+#: ``initial_genomes`` draws a member of a first generation of up to this many: a ramped
+#: initialisation reaches its deepest trees only some way into a generation.
+FIRST_GENERATION = 32
+
+
+def initial_genomes(compiled: Compiled) -> st.SearchStrategy[Genome]:
+    """Genomes of a compiled representation: a drawn member of the first generation its
+    initialisation makes from a drawn seed, what a run starts from. They shrink toward the first
+    member of seed 0's."""
+
+    def member(drawn: tuple[int, int]) -> Genome:
+        seed, index = drawn
+        return compiled.initialise(np.random.default_rng(seed), index + 1)[index]
+
+    return st.tuples(st.integers(0, 2**32 - 1), st.integers(0, FIRST_GENERATION - 1)).map(member)
+
+
 def derivations(
     grammar: Grammar,
     *,
     max_depth: int = 10,
     codons: CodonMode | str = CodonMode.LAZY,
     max_wraps: int = 0,
+    representation: str = DEFAULT_REPRESENTATION,
+    settings: Mapping[str, Any] | None = None,
 ) -> st.SearchStrategy[Derivation]:
-    """Valid derivations within ``max_depth``, mapped from the genome that encodes them."""
+    """Valid derivations within ``max_depth``, mapped from the genome that encodes them; of another
+    representation than GE, those of its initial genomes, within its ``settings``' depth limits
+    (``max_depth``, ``codons`` and ``max_wraps`` are GE's)."""
+    if representation != DEFAULT_REPRESENTATION:
+        compiled = compiled_representation(grammar, representation, settings)
+        return initial_genomes(compiled).map(compiled.derivation).filter(lambda d: d.valid)
     mode = CodonMode(codons)
     facts = _facts(grammar)
     cfg = facts.cfg

@@ -4,22 +4,25 @@ from __future__ import annotations
 
 import importlib.util
 import inspect
+from dataclasses import replace
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
-from hypothesis import HealthCheck, given, seed, settings
+from hypothesis import HealthCheck, assume, given, seed, settings
 from rich.console import Console
 from rich.text import Text
 
 from gaitgram import jsonio
-from gaitgram.cli.common import fail, load_usable
-from gaitgram.cli.options import Defines, parse_defines
+from gaitgram.analysis import CheckResult
+from gaitgram.cli.common import compiled_or_exit, fail, load_usable
+from gaitgram.cli.options import Defines, Representation, RepresentationSettings, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper
+from gaitgram.ge.registry import DEFAULT_REPRESENTATION, Compiled
 from gaitgram.ge.visualise import ascii_tree
 from gaitgram.properties import BUILT_IN, Context, Property
-from gaitgram.testing import derivations
+from gaitgram.testing import derivations, initial_genomes
 
 
 class OutputFormat(StrEnum):
@@ -31,23 +34,29 @@ def command(
     grammar: Annotated[Path, typer.Argument(help="The grammar to test.", show_default=False)],
     examples: Annotated[int, typer.Option(min=1, help="Derivations per property.")] = 100,
     seed_value: Annotated[int, typer.Option("--seed", help="Random seed: same seed, same examples.")] = 0,
-    max_depth: Annotated[int, typer.Option(min=1, help="Deepest derivation generated.")] = 10,
+    max_depth: Annotated[
+        int | None,
+        typer.Option(min=1, help="Deepest derivation generated (default 10; another representation's own)."),
+    ] = None,
     codons: Annotated[CodonMode, typer.Option(help="lazy or eager codon consumption.")] = CodonMode.LAZY,
     properties: Annotated[Path | None, typer.Option(help="A Python file of property_* functions.")] = None,
     only: Annotated[
         list[str] | None, typer.Option("--property", "-p", help="Run only these properties (repeatable).")
     ] = None,
     output_format: Annotated[OutputFormat, typer.Option("--format", "-f")] = OutputFormat.HUMAN,
+    representation: Representation = DEFAULT_REPRESENTATION,
+    setting: RepresentationSettings = None,
     defines: Defines = None,
 ) -> None:
     """Property-based testing of a grammar, with shrunk counterexamples.
 
     Built-in properties: clean mapping, determinism, depth, joint curves compile, are finite and
-    stay within their limits; add your own with --properties FILE.
+    stay within their limits; add your own with --properties FILE. With --representation, the
+    derivations of that representation's initial genomes, as a run's first generation.
     """
     checked = load_usable(grammar, parse_defines(defines))
     mapper = compile_mapper(checked.grammar, codons=codons, max_wraps=0)
-    context = Context.of(checked.grammar, mapper, max_depth)
+    context = Context.of(checked.grammar, mapper, max_depth or DEFAULT_MAX_DEPTH)
     chosen: dict[str, Property] = dict(BUILT_IN)
     if properties is not None:
         chosen.update(_user_properties(properties))
@@ -58,10 +67,7 @@ def command(
                 f"unknown {unknown[0]!r}; known: {', '.join(chosen)}", param_hint="--property"
             )
         chosen = {name: chosen[name] for name in only}
-    try:
-        strategy = derivations(checked.grammar, max_depth=max_depth, codons=codons)
-    except ValueError as error:
-        raise fail(str(error), 1) from None
+    context, strategy = _examples(checked, context, representation, setting, max_depth, codons)
     results = [_run(name, check, strategy, context, examples, seed_value) for name, check in chosen.items()]
     if output_format is OutputFormat.JSON:
         typer.echo(jsonio.dumps(results, indent=1))
@@ -73,15 +79,49 @@ def command(
             else:
                 failure = f"  {result['property']}: {result['reason']}"
                 out.print(Text.assemble(("FAILED", "bold red"), failure))
-                out.print(f"  genome: {','.join(map(str, result['genome']))}")
+                genome = result["genome"]
+                out.print(f"  genome: {genome if isinstance(genome, str) else ','.join(map(str, genome))}")
                 out.print(f"  phenotype: {result['phenotype']}")
                 out.print("  derivation:\n" + _indent(result["derivation"]))
     if not all(r["passed"] for r in results):
         raise typer.Exit(1)
 
 
+#: GE's ``--max-depth`` when none is given.
+DEFAULT_MAX_DEPTH = 10
+
+
+def _examples(
+    checked: CheckResult,
+    context: Context,
+    representation: str,
+    setting: list[str] | None,
+    max_depth: int | None,
+    codons: CodonMode,
+) -> tuple[Context, Any]:
+    """What the properties are checked on: GE's derivations, or another representation's initial
+    genomes (the context then holds it and its depth limit)."""
+    if representation != DEFAULT_REPRESENTATION:
+        compiled = compiled_or_exit(checked, representation, setting, max_depth=max_depth)
+        context = replace(context, representation=compiled, max_depth=_depth_limit(compiled, max_depth))
+        return context, initial_genomes(compiled)
+    try:
+        return context, derivations(checked.grammar, max_depth=context.max_depth, codons=codons)
+    except ValueError as error:
+        raise fail(str(error), 1) from None
+
+
+def _depth_limit(compiled: Compiled, given: int | None) -> int:
+    """What ``within-max-depth`` checks of another representation: ``--max-depth``, else its own
+    ``max_depth`` setting (its initialisation keeps to it), else no limit."""
+    own = getattr(compiled, "settings", {}).get("max_depth")  # a plug-in may declare none
+    return given or own or 1 << 62
+
+
 def _run(name: str, check: Property, strategy: Any, context: Context, examples: int, seed_value: int) -> dict:
-    failures: list[tuple[Any, str]] = []
+    """One property over the examples: GE's derivations, or another representation's genomes,
+    each mapped here (an invalid one skipped) and checked with its genome in the context."""
+    failures: list[tuple[Any, Any, str]] = []
 
     @seed(seed_value)
     @settings(
@@ -93,25 +133,31 @@ def _run(name: str, check: Property, strategy: Any, context: Context, examples: 
         print_blob=False,
     )
     @given(strategy)
-    def test(derivation: Any) -> None:
+    def test(example: Any) -> None:
+        derivation, here = example, context
+        if context.representation is not None:  # a genome of another representation
+            derivation = context.representation.derivation(example)
+            assume(derivation.valid)
+            here = replace(context, genome=example)
         try:
-            check(derivation, context)
+            check(derivation, here)
         except AssertionError as failure:
-            failures.append((derivation, str(failure)))
+            failures.append((derivation, here.genome, str(failure)))
             raise
 
     try:
         test()
     except AssertionError:
-        derivation, reason = failures[-1]  # hypothesis replays the shrunk example last
+        derivation, genome, reason = failures[-1]  # hypothesis replays the shrunk example last
         codons = sorted(
             (n.codon_index, n.codon) for n, _ in derivation.tree.walk() if n.codon_index is not None
         )
+        shown = context.representation.encode(genome) if context.representation is not None else None
         return {
             "property": name,
             "passed": False,
             "reason": reason,
-            "genome": [c for _, c in codons],
+            "genome": [c for _, c in codons] if shown is None else shown,
             "phenotype": derivation.phenotype,
             "derivation": ascii_tree(derivation),
         }

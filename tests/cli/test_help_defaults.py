@@ -24,7 +24,10 @@ SOURCES: dict[tuple[str, str], Any] = {
     **{("evolve", key): getattr(RUN, key) for key in ("generations", "population", "runs", "seed")},
     ("evolve", "strategy"): RUN.strategy,
     ("evolve", "representation"): RUN.representation,
-    **{(command, "representation"): RUN.representation for command in ("map", "compile", "plot", "sample")},
+    **{
+        (command, "representation"): RUN.representation
+        for command in ("map", "compile", "plot", "sample", "test")
+    },
     **{(command, key): value for command in ("map", "compile", "plot") for key, value in _GE_OPTIONS.items()},
     **{(command, key): value for command in ("evaluate", "render") for key, value in _GE_OPTIONS.items()},
     ("evaluate", "max_depth"): GE["max_depth"],

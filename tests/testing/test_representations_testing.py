@@ -1,0 +1,112 @@
+"""``gaitgram test --representation`` and ``gaitgram.testing``'s strategies of another representation
+(issue 41.4): a planted defect is found in each representation's initial genomes and reported as a
+genome of that representation, which ``gaitgram map`` maps back to the defect."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from hypothesis import find, given, settings
+from typer.testing import CliRunner
+
+from gaitgram.cli import app
+from gaitgram.ge import Derivation
+from gaitgram.language import parse
+from gaitgram.properties import BUILT_IN
+from gaitgram.testing import derivations, motions
+
+runner = CliRunner()
+
+CLEAN = """\
+<gait> ::= <hip>
+@joint hip limits=-20..20
+<hip> ::= <amp>*sin(2*PI*t+<phase>) | <hip>+<amp>*sin(4*PI*t)
+<amp> ::= int[0..5]
+<phase> ::= float[0..3 step 0.5]
+"""
+
+#: The divisor can be 0.
+PLANTED = """\
+<gait> ::= <hip>
+@joint hip limits=-20..20
+<hip> ::= 10/<d>*sin(2*PI*t)
+<d> ::= int[0..3]
+"""
+
+REPRESENTATIONS = ["pige", "sge", "dsge", "cfg-gp"]
+
+
+def write(tmp_path: Path, text: str) -> str:
+    path = tmp_path / "g.gg"
+    path.write_text(text)
+    return str(path)
+
+
+@pytest.mark.parametrize("representation", REPRESENTATIONS)
+def test_a_planted_defect_is_reported_as_a_genome_of_the_representation(
+    tmp_path: Path, representation: str
+) -> None:
+    grammar = write(tmp_path, PLANTED)
+    result = runner.invoke(
+        app, ["test", grammar, "--examples", "40", "--representation", representation, "--format", "json"]
+    )
+    assert result.exit_code == 1, result.stderr
+    found = {r["property"]: r for r in json.loads(result.stdout)}
+    assert found["maps-cleanly"]["passed"]
+    failed = found["curves-finite"]
+    assert not failed["passed"]
+    assert "division by zero" in failed["reason"]
+    assert failed["phenotype"] == "10/0*sin(2*PI*t)"
+    mapped = runner.invoke(
+        app, ["map", grammar, "--representation", representation, "--genome", failed["genome"]]
+    )
+    assert mapped.exit_code == 0, mapped.stderr
+    assert mapped.stdout.splitlines()[0] == failed["phenotype"]
+
+
+@pytest.mark.parametrize("representation", REPRESENTATIONS)
+def test_a_clean_grammar_passes_in_each_representation(tmp_path: Path, representation: str) -> None:
+    grammar = write(tmp_path, CLEAN)
+    result = runner.invoke(
+        app, ["test", grammar, "--examples", "30", "--representation", representation, "--max-depth", "6"]
+    )
+    assert result.exit_code == 0, result.stdout
+    assert result.stdout.count("passed") == len(BUILT_IN)
+
+
+def test_a_bad_setting_is_refused_naming_it(tmp_path: Path) -> None:
+    grammar = write(tmp_path, CLEAN)
+    result = runner.invoke(app, ["test", grammar, "--representation", "sge", "--setting", "recursoin=2"])
+    assert result.exit_code == 2
+    assert (
+        "--setting recursoin: unknown setting of representation sge; did you mean recursion?" in result.stderr
+    )
+
+
+def test_the_strategies_keep_to_the_representations_depth_limit() -> None:
+    grammar = parse(CLEAN)
+    seen: list[int] = []
+
+    @settings(max_examples=40, database=None, deadline=None)
+    @given(derivations(grammar, representation="cfg-gp", settings={"max_depth": 4}))
+    def within(derivation: Derivation) -> None:
+        assert derivation.valid
+        assert derivation.depth <= 4
+        seen.append(derivation.depth)
+
+    within()
+    assert max(seen) == 4  # the limit is reached, not only kept
+    deep = find(
+        derivations(grammar, representation="dsge", settings={"max_depth": 7}),
+        lambda d: d.phenotype.count("+") >= 2,
+        settings=settings(database=None, max_examples=500),
+    )
+    assert deep.depth <= 7
+    curves = find(
+        motions(parse(PLANTED), representation="sge"),
+        lambda c: not bool(abs(c["hip"]).max() < 1e9),
+        settings=settings(database=None),
+    )
+    assert curves["hip"].shape == (128,)
