@@ -29,6 +29,7 @@ import numpy as np
 
 from gaitgram.analysis.cfg import Cfg
 from gaitgram.ge.initialisation import ramped_population
+from gaitgram.ge.mapper import MapperError
 from gaitgram.ge.registry import RepresentationSpec, Setting, check_fields
 from gaitgram.ge.representation import (
     GenomeError,
@@ -65,9 +66,17 @@ class CFGGPSettings:
     grow_probability: float = 0.5
     #: Crossover attempts within ``max_depth`` before the parents are kept.
     retries: int = 100
+    #: Top of the initial trees' ramp; None: ``max_depth`` (a ramp to 17 makes full trees of tens
+    #: of thousands of nodes on a binary grammar).
+    init_max_depth: int | None = None
 
     def __post_init__(self) -> None:
         check_fields("cfg-gp", SETTINGS, self)
+        if self.init_max_depth is not None and self.init_max_depth > self.max_depth:
+            raise MapperError(
+                f"cfg-gp: init_max_depth ({self.init_max_depth}) is deeper than max_depth "
+                f"({self.max_depth}): lower it, or leave it out to ramp to max_depth"
+            )
 
 
 _DEFAULTS = {f.name: f.default for f in fields(CFGGPSettings)}
@@ -80,6 +89,14 @@ SETTINGS = (
     Setting("mutation", _DEFAULTS["mutation"], "probability that a child has a subtree regrown", 0.0, 1.0),
     Setting("grow_probability", _DEFAULTS["grow_probability"], "share of initial trees grown", 0.0, 1.0),
     Setting("retries", _DEFAULTS["retries"], "crossover attempts within max_depth", 1),
+    Setting(
+        "init_max_depth",
+        _DEFAULTS["init_max_depth"],
+        "top of the initial trees' ramp (left out: max_depth)",
+        1,
+        optional=True,
+        kind=int,
+    ),
 )
 
 
@@ -135,8 +152,10 @@ class CFGGP:
     # ---- initialisation and variation ----------------------------------------------------------
 
     def initialise(self, rng: np.random.Generator, n: int, max_depth: int | None = None) -> list[Tree]:
-        """Ramped half-and-half trees, depths ramped up to ``max_depth`` (default: the settings')."""
-        limit = self.settings.max_depth if max_depth is None else max_depth
+        """Ramped half-and-half trees, depths ramped up to ``max_depth`` (default: the settings'
+        ``init_max_depth``, else their ``max_depth``)."""
+        settings = self.settings
+        limit = max_depth if max_depth is not None else settings.init_max_depth or settings.max_depth
         trees = ramped_population(
             self.tables.facts,
             rng,

@@ -70,6 +70,9 @@ class PiGESettings:
     max_expansions: int | None = None
     #: Deepest rule node (root 1) a valid genome may derive; None: no limit.
     max_depth: int | None = None
+    #: Top of the initial trees' ramp; None: ``max_depth``, else 10 (a ramp to a deep limit makes
+    #: full trees of tens of thousands of nodes on a binary grammar).
+    init_max_depth: int | None = None
     #: Codons are drawn from [0, codon_size).
     codon_size: int = CODON_SIZE
     #: GE's variation (gaitgram's defaults, the paper's Table 1).
@@ -87,6 +90,12 @@ class PiGESettings:
         if self.max_wraps is None and self.max_expansions is None:
             raise MapperError(
                 "pige: max_wraps and max_expansions cannot both be None (a mapping could run forever)"
+            )
+        deepest, initial = self.max_depth, self.init_max_depth
+        if deepest is not None and initial is not None and initial > deepest:
+            raise MapperError(
+                f"pige: init_max_depth ({initial}) is deeper than max_depth ({deepest}): "
+                "lower it, or leave it out to ramp to max_depth"
             )
 
 
@@ -119,6 +128,14 @@ SETTINGS = (
         "max_depth",
         _DEFAULTS["max_depth"],
         "deepest rule node of a valid genome (initial trees: 10 if none)",
+        1,
+        optional=True,
+        kind=int,
+    ),
+    Setting(
+        "init_max_depth",
+        _DEFAULTS["init_max_depth"],
+        "top of the initial trees' ramp (left out: max_depth, else 10)",
         1,
         optional=True,
         kind=int,
@@ -371,10 +388,11 @@ class PiGE:
     # ---- initialisation and variation ----------------------------------------------------------
 
     def initialise(self, rng: np.random.Generator, n: int, max_depth: int | None = None) -> list[Codons]:
-        """Ramped half-and-half trees up to ``max_depth`` (default: the settings', else 10), each
-        written as a genome in a random order of expansion, with a random tail."""
+        """Ramped half-and-half trees up to ``max_depth`` (default: the settings' ``init_max_depth``,
+        else their ``max_depth``, else 10), each written as a genome in a random order of expansion,
+        with a random tail."""
         settings = self.settings
-        limit = max_depth if max_depth is not None else settings.max_depth or 10
+        limit = max_depth if max_depth is not None else settings.init_max_depth or settings.max_depth or 10
         trees = ramped_population(
             self.tables.facts, rng, n, max_depth=limit, grow_probability=settings.grow_probability, tail=0
         )

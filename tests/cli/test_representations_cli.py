@@ -156,3 +156,27 @@ def test_compile_refuses_a_python_mapper_of_another_representation(grammar: Path
     assert result.exit_code == 2
     assert "--target python writes GE's mapper; for dsge, write its tables (--target json)" in result.stderr
     assert not out.exists()
+
+
+@pytest.mark.parametrize("representation", ["pige", "cfg-gp"])
+def test_init_max_depth_tops_the_initial_ramp_below_max_depth(tmp_path: Path, representation: str) -> None:
+    """Ramped to max_depth (17 for CFG-GP), a binary grammar's full trees run to tens of thousands of
+    nodes: init_max_depth ramps lower while variation keeps max_depth; deeper than it is refused."""
+    binary = tmp_path / "binary.bnf"
+    binary.write_text("<e> ::= (<e>+<e>) | (<e>*<e>) | x\n")
+
+    def depths(*settings: str) -> set[int]:
+        words = [w for s in settings for w in ("--setting", s)]
+        result = runner.invoke(
+            app, ["sample", str(binary), "--representation", representation, "-n", "40", "--json", *words]
+        )
+        assert result.exit_code == 0, result.stderr
+        return {json.loads(line)["depth"] for line in result.stdout.splitlines()}
+
+    assert max(depths("max_depth=12")) == 12
+    assert max(depths("max_depth=12", "init_max_depth=4")) == 4
+    too_deep = ["--setting", "max_depth=12", "--setting", "init_max_depth=13"]
+    refused = runner.invoke(app, ["sample", str(binary), "--representation", representation, *too_deep])
+    assert refused.exit_code == 2
+    assert f"{representation}: init_max_depth (13) is deeper than max_depth (12)" in refused.stderr
+    assert "Traceback" not in refused.stderr
