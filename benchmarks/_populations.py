@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from gaitgram.analysis import check
-from gaitgram.evolution.config import RunConfig
+from gaitgram.configuration import RunConfig
 from gaitgram.ge.initialisation import ramped_population
 from gaitgram.ge.mapper import CodonMode
 from gaitgram.ge.operators import int_flip_mutation

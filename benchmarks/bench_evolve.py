@@ -38,7 +38,7 @@ from benchmarks.bench_backend import REVISION_3_WINDOW, raw_rollout
 from gaitgram.analysis import check
 from gaitgram.backends.api import Evaluation
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
-from gaitgram.evolution.config import RunConfig
+from gaitgram.configuration import RunConfig
 from gaitgram.evolution.engine import run_evolution
 from gaitgram.evolution.usage import read_usage
 from gaitgram.language import load

@@ -106,7 +106,7 @@ def ponyge2_arguments(problem: Problem, run: int) -> list[str]:
 
 def gaitgram_config(problem: Problem, ponyge2: Path, runs: int) -> Any:
     """gaitgram's RunConfig with the shared settings (docs/results/ponyge2/README.md maps each)."""
-    from gaitgram.evolution.config import RunConfig
+    from gaitgram.configuration import RunConfig
     from gaitgram.ge.mapper import CodonMode
 
     data = ponyge2 / "datasets" / problem.data

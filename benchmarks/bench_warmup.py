@@ -20,7 +20,7 @@ import numpy as np
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator, HorseSettings
 from gaitgram.backends.mujoco_horse.measures import measure_cycles
 from gaitgram.backends.mujoco_horse.settings import DEFAULT_WARMUP_SECONDS, warmup_cycles
-from gaitgram.evolution.config import config_from_mapping, read_toml
+from gaitgram.configuration import config_from_mapping, read_toml
 from gaitgram.evolution.rundir import build_pipeline
 from gaitgram.language.source import decode_source
 from gaitgram.motion.gait import MotionBatch

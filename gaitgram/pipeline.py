@@ -1,7 +1,7 @@
 """From genome to score: the one path that every command takes.
 
 A :class:`Pipeline` is built from a checked grammar and a resolved
-:class:`~gaitgram.evolution.config.RunConfig`, and does, in order:
+:class:`~gaitgram.configuration.RunConfig`, and does, in order:
 
     genomes --map--> phenotypes --motion--> joint curves --evaluate--> evaluations
 
@@ -50,7 +50,7 @@ from gaitgram.backends.registry import (
     backends_that,
     get_backend,
 )
-from gaitgram.evolution.config import RunConfig
+from gaitgram.configuration import RunConfig
 from gaitgram.ge.initialisation import InitialisationError
 from gaitgram.ge.mapper import MapperError
 from gaitgram.ge.registry import (

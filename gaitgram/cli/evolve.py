@@ -17,8 +17,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 from gaitgram.backends.api import Evaluator
 from gaitgram.cli.common import check_output, err, fail, load_usable
 from gaitgram.cli.options import REPRESENTATIONS, Defines, listed, parse_defines
-from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint
-from gaitgram.evolution.config import (
+from gaitgram.configuration import (
     NESTED,
     ConfigError,
     RunConfig,
@@ -26,6 +25,7 @@ from gaitgram.evolution.config import (
     setting_location,
     with_overrides,
 )
+from gaitgram.evolution.checkpoint import CheckpointError, load_checkpoint
 from gaitgram.evolution.distributed import ClusterError, DaskEvaluator, connect
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
 from gaitgram.evolution.session import run_session, stop_on_interrupt

@@ -12,8 +12,8 @@ import typer
 
 from gaitgram.cli.common import decode_genome, load_usable, read_genome_text, read_inputs
 from gaitgram.cli.options import ge_default, parse_defines
+from gaitgram.configuration import ConfigError, load_config
 from gaitgram.evolution.checkpoint import CheckpointError
-from gaitgram.evolution.config import ConfigError, load_config
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, run_input
 from gaitgram.evolution.selection import SelectedGait, SelectionError, from_pipeline, from_run
 from gaitgram.fileio import Input

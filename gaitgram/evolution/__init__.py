@@ -1,1 +1,5 @@
-"""Evolution: run configuration, the GE loop with checkpoints, run records and reports."""
+"""Evolution: the loop with checkpoints, run records and run directories.
+
+A run's configuration sits a floor below, in :mod:`gaitgram.configuration`, for the strategies and
+the pipeline read it too.
+"""

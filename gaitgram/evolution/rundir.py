@@ -28,13 +28,13 @@ from gaitgram import __version__, jsonio
 from gaitgram.analysis import check
 from gaitgram.backends.api import Evaluation, GaitStatus
 from gaitgram.backends.registry import backend_version
+from gaitgram.configuration import ConfigError, RunConfig, config_from_mapping, differences, read_toml
 from gaitgram.evolution.checkpoint import (
     CHECKPOINT_VERSION,
     CheckpointError,
     load_checkpoint,
     refingerprint_checkpoint,
 )
-from gaitgram.evolution.config import ConfigError, RunConfig, config_from_mapping, differences, read_toml
 from gaitgram.evolution.engine import ENGINE_REVISION, run_context, run_files
 from gaitgram.evolution.records import run_records
 from gaitgram.fileio import Input, OutputError, check_output, created_directory, write_atomically

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from gaitgram.backends.api import SettingsError
-from gaitgram.evolution.config import RunConfig
+from gaitgram.configuration import RunConfig
 from gaitgram.ge.classic import Variation
 from gaitgram.pipeline import Genome, Individual, Pipeline
 from gaitgram.strategies.api import RunContext, RunState, Strategy, StrategyError, elites_of

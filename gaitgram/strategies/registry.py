@@ -20,7 +20,7 @@ from typing import Any
 
 from gaitgram.analysis import CheckResult
 from gaitgram.backends.api import SettingsError
-from gaitgram.evolution.config import RunConfig
+from gaitgram.configuration import RunConfig
 from gaitgram.pipeline import Pipeline, PipelineError, settings_error
 from gaitgram.plugins import PluginLoadError, PluginNotFound, Registry, package_version
 from gaitgram.strategies.api import Strategy, StrategyError

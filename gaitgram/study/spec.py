@@ -46,8 +46,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from gaitgram.diagnostics import TextEdit
-from gaitgram.evolution.config import (
+from gaitgram.configuration import (
     LIMITS,
     ConfigError,
     RunConfig,
@@ -55,6 +54,7 @@ from gaitgram.evolution.config import (
     ge_setting_names,
     read_toml,
 )
+from gaitgram.diagnostics import TextEdit
 from gaitgram.evolution.rundir import build_pipeline
 from gaitgram.evolution.transfer import TransferError, start_genomes
 from gaitgram.ge.registry import DEFAULT_REPRESENTATION, representation_names

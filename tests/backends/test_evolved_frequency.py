@@ -18,7 +18,7 @@ from gaitgram.backends.api import GaitStatus
 from gaitgram.backends.mujoco_horse import CATALOGUE
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator, HorseSettings
 from gaitgram.cli import app
-from gaitgram.evolution.config import RunConfig
+from gaitgram.configuration import RunConfig
 from gaitgram.language import parse
 from gaitgram.language.model import FREQUENCY
 from gaitgram.motion.gait import MotionBatch, MotionProblem, motion_batch

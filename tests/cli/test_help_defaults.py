@@ -13,7 +13,7 @@ from typing import Any
 import click
 
 from gaitgram.cli import COMMANDS, load_command
-from gaitgram.evolution.config import RunConfig
+from gaitgram.configuration import RunConfig
 from gaitgram.ge.registry import get_representation
 
 RUN = RunConfig()
@@ -89,7 +89,7 @@ def test_every_default_help_states_is_the_configurations() -> None:
 #: A fresh interpreter whose configuration has other defaults, printing a command's help.
 _CHANGED = """
 import dataclasses, json, sys
-from gaitgram.evolution import config
+from gaitgram import configuration as config
 from gaitgram.ge.classic import REPRESENTATION as GE
 
 @dataclasses.dataclass(frozen=True)

@@ -20,7 +20,7 @@ from conftest import CURVE_GRAMMAR, CURVE_TARGETS, CURVE_TARGETS_TOML
 from gaitgram.analysis import check
 from gaitgram.backends.curve_match import CurveMatch
 from gaitgram.cli import app
-from gaitgram.evolution.config import ConfigError, RunConfig, WeightStage, load_config
+from gaitgram.configuration import ConfigError, RunConfig, WeightStage, load_config
 from gaitgram.evolution.engine import run_evolution
 from gaitgram.evolution.rundir import RunDirectory
 from gaitgram.evolution.session import run_session

@@ -21,8 +21,8 @@ from conftest import GRAMMARS
 from gaitgram.analysis import check
 from gaitgram.backends.api import Evaluation, GaitStatus, VerifyingEvaluator
 from gaitgram.backends.mujoco_horse.targets import DEFAULT_WEIGHTS, WALK_COMPONENTS
+from gaitgram.configuration import RunConfig
 from gaitgram.evolution.checkpoint import load_checkpoint
-from gaitgram.evolution.config import RunConfig
 from gaitgram.evolution.engine import run_evolution
 from gaitgram.language import load
 from gaitgram.motion.gait import MotionBatch

@@ -22,7 +22,7 @@ from conftest import CURVE_GRAMMAR, CURVE_TARGETS, CURVE_TARGETS_TOML
 from gaitgram.analysis import check
 from gaitgram.backends.curve_match import CurveMatch
 from gaitgram.cli import app
-from gaitgram.evolution.config import RunConfig
+from gaitgram.configuration import RunConfig
 from gaitgram.evolution.engine import advance, begin, run_context
 from gaitgram.language import parse
 from gaitgram.strategies.ge import GrammaticalEvolution

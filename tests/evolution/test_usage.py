@@ -16,7 +16,7 @@ from conftest import CURVE_GRAMMAR, CURVE_TARGETS
 from gaitgram.analysis import check
 from gaitgram.backends.curve_match import CurveMatch
 from gaitgram.cli import app
-from gaitgram.evolution.config import RunConfig
+from gaitgram.configuration import RunConfig
 from gaitgram.evolution.rundir import RunDirectory
 from gaitgram.evolution.session import run_session
 from gaitgram.language import load, parse

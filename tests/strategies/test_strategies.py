@@ -23,9 +23,9 @@ from gaitgram.analysis import check
 from gaitgram.backends.api import GaitStatus
 from gaitgram.backends.curve_match import CurveMatch
 from gaitgram.cli import app
+from gaitgram.configuration import RunConfig, load_config
 from gaitgram.evolution import checkpoint as checkpoints
 from gaitgram.evolution.checkpoint import load_checkpoint
-from gaitgram.evolution.config import RunConfig, load_config
 from gaitgram.evolution.engine import run_evolution
 from gaitgram.language import parse
 from gaitgram.pipeline import Pipeline, PipelineError

@@ -13,7 +13,7 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 from conftest import CURVE_GRAMMAR, CURVE_STUDY
-from gaitgram.evolution.config import ConfigError, load_config
+from gaitgram.configuration import ConfigError, load_config
 from gaitgram.study.spec import StudyError, load_study
 
 BASE = CURVE_STUDY.format(generations=2)
@@ -137,7 +137,7 @@ def documents(draw: st.DrawFn) -> tuple[str, dict[tuple[str, ...], int]]:
     """A TOML document written as a run.toml is (top-level keys, then [tables], values of every
     kind including strings that look like keys and headers, and multi-line arrays), and the line
     each key path is written on."""
-    from gaitgram.evolution.config import _key, _toml_value
+    from gaitgram.configuration import _key, _toml_value
 
     lines: list[str] = []
     where: dict[tuple[str, ...], int] = {}
