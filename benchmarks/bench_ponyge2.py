@@ -35,7 +35,7 @@ import os
 import subprocess
 import sys
 import time
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -104,40 +104,55 @@ def ponyge2_arguments(problem: Problem, run: int) -> list[str]:
     ]
 
 
-def gaitgram_config(problem: Problem, ponyge2: Path, runs: int) -> Any:
-    """gaitgram's RunConfig with the shared settings (docs/results/ponyge2/README.md maps each)."""
-    from gaitgram.configuration import RunConfig
-    from gaitgram.ge.mapper import CodonMode
+#: gaitgram's GE settings equal to PonyGE2's (docs/results/ponyge2/README.md maps each).
+GE_SETTINGS: Mapping[str, Any] = {
+    "max_wraps": 0,
+    "codons": "eager",  # PonyGE2's codon consumption (gaitgram.ge.mapper.CodonMode.EAGER)
+    "codon_size": CODON_SIZE,
+    "init_max_depth": PONYGE2_MAX_INIT_DEPTH - 1,
+    "grow_probability": 0.5,
+    "tail": 0.5,
+    "crossover": CROSSOVER,
+    "fixed_point": False,
+    "crossover_within_used": True,
+    "mutation": MUTATION,
+    "mutation_within_used": True,
+    "max_depth": PONYGE2_MAX_DEPTH - 1,
+}
+
+
+def gaitgram_config(
+    problem: Problem,
+    ponyge2: Path,
+    runs: int,
+    representation: str = "ge",
+    settings: Mapping[str, Any] = GE_SETTINGS,
+    *,
+    generations: int = GENERATIONS,
+    population: int = POPULATION,
+) -> Any:
+    """gaitgram's RunConfig with the shared settings: GE's by default; another representation's
+    with its own ``settings`` under the same budget, selection and seeds (the representations'
+    benchmark, ``bench_representations_sr``)."""
+    from gaitgram.evolution.config import RunConfig
 
     data = ponyge2 / "datasets" / problem.data
-    settings = (
+    backend = (
         {"dataset": problem.built}
         if problem.built
         else {"train": str(data / "Train.txt"), "test": str(data / "Test.txt")}
     )
     return RunConfig(
-        generations=GENERATIONS,
-        population=POPULATION,
+        generations=generations,
+        population=population,
         runs=runs,
         seed=SEED,
         elite=ELITE,
         tournament=TOURNAMENT,
-        representation_settings={
-            "max_wraps": 0,
-            "codons": CodonMode.EAGER.value,
-            "codon_size": CODON_SIZE,
-            "init_max_depth": PONYGE2_MAX_INIT_DEPTH - 1,
-            "grow_probability": 0.5,
-            "tail": 0.5,
-            "crossover": CROSSOVER,
-            "fixed_point": False,
-            "crossover_within_used": True,
-            "mutation": MUTATION,
-            "mutation_within_used": True,
-            "max_depth": PONYGE2_MAX_DEPTH - 1,
-        },
+        representation=representation,
+        representation_settings=dict(settings),
         backend="symbolic-regression",
-        backend_settings=settings,
+        backend_settings=backend,
     )
 
 
@@ -162,8 +177,17 @@ def run_ponyge2(
     return json.loads(lines[-1])
 
 
-def run_gaitgram(problem: Problem, run: int, runs: int, ponyge2: Path) -> dict[str, Any]:
-    """One gaitgram run through the library, as ``gaitgram evolve`` runs it, without its files."""
+def run_gaitgram(
+    problem: Problem,
+    run: int,
+    runs: int,
+    ponyge2: Path,
+    config: Any = None,
+    watch: Callable[[Any], None] | None = None,
+) -> dict[str, Any]:
+    """One gaitgram run through the library, as ``gaitgram evolve`` runs it, without its files:
+    under ``config`` (default: GE's, :func:`gaitgram_config`), ``watch`` shown the run's state
+    after each generation (its time counted in the run's)."""
     from gaitgram.analysis import check
     from gaitgram.backends.symbolic_regression.expression import compile_expression
     from gaitgram.evolution.engine import advance, begin, run_context
@@ -173,12 +197,16 @@ def run_gaitgram(problem: Problem, run: int, runs: int, ponyge2: Path) -> dict[s
     compile_expression.cache_clear()  # each run starts cold, as a PonyGE2 process does
     wall, cpu = time.perf_counter(), time.process_time()
     grammar = load(ponyge2 / "grammars" / problem.grammar, defines=dict(problem.defines))
-    pipeline = run_pipeline(check(grammar), gaitgram_config(problem, ponyge2, runs))
+    pipeline = run_pipeline(check(grammar), config or gaitgram_config(problem, ponyge2, runs))
     evaluator = pipeline.load_evaluator()
     strategy = load_strategy(pipeline)
     context = run_context(pipeline, run)
     state = begin(strategy, context, evaluator)
-    while state.generation < pipeline.config.generations:
+    while True:
+        if watch is not None:
+            watch(state)
+        if state.generation >= pipeline.config.generations:
+            break
         state = advance(strategy, context, state, evaluator)
     best = state.best
     test = evaluator.test_error(best.phenotype) if best.evaluation.status.viable else None
@@ -193,14 +221,23 @@ def run_gaitgram(problem: Problem, run: int, runs: int, ponyge2: Path) -> dict[s
     return result
 
 
-def check_setup(ponyge2: Path | None, python: str | None) -> tuple[Path, str]:
-    """PonyGE2's checkout and interpreter, or :class:`Refused` saying how to get them; the built
-    datasets checked equal to the checkout's files."""
-    how = "see `python -m benchmarks ponyge2 --help` (or this module's docstring) for the three commands"
+def check_checkout(ponyge2: Path | None, benchmark: str = "ponyge2") -> Path:
+    """PonyGE2's checkout (its grammars and data), or :class:`Refused` saying how to get it; its
+    data checked equal to the recorded files and to the built datasets."""
+    how = f"see `python -m benchmarks {benchmark} --help` (or its module's docstring) for the commands"
     if ponyge2 is None:
         raise Refused(f"PonyGE2 is not given: fetch it and pass --ponyge2 DIR (or GAITGRAM_PONYGE2); {how}")
     if not (ponyge2 / "src" / "ponyge.py").is_file():
         raise Refused(f"{ponyge2} is not a PonyGE2 checkout (no src/ponyge.py); {how}")
+    check_datasets(ponyge2)
+    return ponyge2
+
+
+def check_setup(ponyge2: Path | None, python: str | None) -> tuple[Path, str]:
+    """PonyGE2's checkout and interpreter, or :class:`Refused` saying how to get them; the built
+    datasets checked equal to the checkout's files."""
+    how = "see `python -m benchmarks ponyge2 --help` (or this module's docstring) for the three commands"
+    ponyge2 = check_checkout(ponyge2)
     if python is None:
         raise Refused(
             "PonyGE2's interpreter is not given (it needs numpy<2 and scikit-learn): pass --python "
@@ -217,7 +254,6 @@ def check_setup(ponyge2: Path | None, python: str | None) -> tuple[Path, str]:
             f"{python} cannot run PonyGE2 (it needs numpy<2, scipy, matplotlib, pandas and scikit-learn): "
             f"{(probe.stderr.strip().splitlines() or [probe.stdout.strip()])[-1]}; {how}"
         )
-    check_datasets(ponyge2)
     return ponyge2, python
 
 
