@@ -179,7 +179,26 @@ def test_the_sections_show_what_the_runs_keep(made: Path) -> None:
     ge = [r["realism"]["measures"]["stride_frequency"] for r in kept(made / "ge") if r["gait"] == "measured"]
     assert float(measures["stride frequency (Hz)"]["ge"]) == pytest.approx(np.median(ge))
     data = json.loads((out / "summary.json").read_text())
-    assert set(data["sections"]) == {"start", "first-walk", "walk-rates", "spread", "realism", "robustness"}
+    assert set(data["sections"]) == {
+        *("start", "first-walk", "walk-rates", "spread", "realism", "robustness", "graded", "backend-usage")
+    }
+    for row in data["sections"]["graded"]["tables"]["graded-shares"]:  # recomputed from the assessments
+        records = kept(made / row["arm"])
+        assert row["measured"] == len(records)
+        for trial in records[0]["graded"]:
+            key = f"holds_{trial['family']}_{trial['size']}"
+            held = [
+                next(t for t in r["graded"] if (t["family"], t["size"]) == (trial["family"], trial["size"]))
+                for r in records
+            ]
+            best = [
+                json.loads((made / row["arm"] / f"run-{r:03d}" / "best.json").read_text()) for r in range(2)
+            ]
+            walks = [
+                b["status"] == "ok" and b["components"]["walk"] == 1.0 for b in best
+            ]  # handed back a walk
+            share = sum(w and t["upright"] and t["walking"] for w, t in zip(walks, held, strict=True)) / 2
+            assert row[key][0] == pytest.approx(share)
     for name in ARMS:  # why a gait that stayed up was not walking again, as its detail says
         stopped = [
             t["detail"]
