@@ -134,7 +134,7 @@ def gaitgram_config(
     """gaitgram's RunConfig with the shared settings: GE's by default; another representation's
     with its own ``settings`` under the same budget, selection and seeds (the representations'
     benchmark, ``bench_representations_sr``)."""
-    from gaitgram.evolution.config import RunConfig
+    from gaitgram.configuration import RunConfig
 
     data = ponyge2 / "datasets" / problem.data
     backend = (

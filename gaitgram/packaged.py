@@ -17,7 +17,7 @@ _ROOT = Path(__file__).resolve().parent
 
 def packaged(package: str, name: str) -> Path:
     """The file ``name`` in the directory of ``package``, a gaitgram package
-    (``packaged("gaitgram.seed", "dlc_walk.json")``)."""
+    (``packaged("gaitgram.motion", "horse_walk.csv")``)."""
     top, *inner = package.split(".")
     if top != "gaitgram":
         raise ValueError(f"{package} is not a gaitgram package")

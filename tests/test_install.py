@@ -151,7 +151,7 @@ def test_the_wheel_carries_every_data_file_of_the_packages(dists: tuple[Path, Pa
         "gaitgram/motion/expression.lark",
         "gaitgram/backends/mujoco_horse/horse.xml",
         "gaitgram/backends/mujoco_horse/joints.toml",
-        "gaitgram/seed/horse_walk.csv",
+        "gaitgram/motion/horse_walk.csv",
     }
     assert expected <= names, sorted(expected - names)
     assert not [name for name in names if name.startswith(("tests/", "docs/", "grammars/"))]

@@ -11,8 +11,8 @@ from gaitgram.packaged import packaged
     ("package", "name"),
     [
         ("gaitgram.language", "gaitgram.lark"),
-        ("gaitgram.seed", "dlc_walk.json"),
-        ("gaitgram.seed", "horse_walk.csv"),
+        ("gaitgram.backends.mujoco_horse", "dlc_walk.json"),
+        ("gaitgram.motion", "horse_walk.csv"),
         ("gaitgram.backends.mujoco_horse", "joints.toml"),
         ("gaitgram.backends.mujoco_horse", "bodies.toml"),
     ],

@@ -23,8 +23,8 @@ from gaitgram.language.model import Grammar
 from gaitgram.language.ranges import parse_range
 from gaitgram.motion.expression import Motion, compile_motion, phase_grid
 from gaitgram.motion.fourier import SineFit, SineTerm, fit_sum_of_sines
+from gaitgram.motion.seed_walk import SeedCurves
 from gaitgram.pipeline import DEFAULT_BACKEND
-from gaitgram.seed.data import SeedCurves
 
 
 class Style(StrEnum):

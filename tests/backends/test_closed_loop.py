@@ -21,8 +21,8 @@ from gaitgram.backends.mujoco_horse.settings import HorseSettings
 from gaitgram.backends.registry import get_backend
 from gaitgram.backends.sensors import SensorCatalogue
 from gaitgram.motion.gait import motion_batch
+from gaitgram.motion.seed_walk import load_seed
 from gaitgram.pipeline import sensors_of
-from gaitgram.seed.data import load_seed
 from gaitgram.seed.grammars import SEED_TOUCHDOWN, fit_seed
 
 HORSE_SENSORS = sensors_of(get_backend("mujoco-horse"))

@@ -15,8 +15,8 @@ from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
 from gaitgram.backends.mujoco_horse.joints import CATALOGUE
 from gaitgram.backends.registry import get_backend
 from gaitgram.motion.gait import MotionBatch, motion_batch
+from gaitgram.motion.seed_walk import load_seed
 from gaitgram.pipeline import sensors_of
-from gaitgram.seed.data import load_seed
 from gaitgram.seed.grammars import fit_seed
 
 HORSE_SENSORS = sensors_of(get_backend("mujoco-horse"))

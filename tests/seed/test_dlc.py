@@ -127,7 +127,7 @@ def test_the_seed_agrees_with_the_measured_walks() -> None:
     """seeds/dlc_walk.json (derived from 169 real walks) against the bundled seed and the walk the
     backend imposes: the agreement seeds/README.md claims."""
     from gaitgram.backends.mujoco_horse.targets import WALK_PHASE_OFFSETS, walk_targets
-    from gaitgram.seed.data import load_seed
+    from gaitgram.motion.seed_walk import load_seed
 
     measured = json.loads((Path(__file__).resolve().parents[2] / "seeds" / "dlc_walk.json").read_text())
     assert measured["clips"] == 169

@@ -31,7 +31,7 @@ def test_shipped_csvs_are_the_seed_fitted_to_the_horse() -> None:
     """The CSVs are ``fit_seed(build_seed())``, rounded; the optimiser may differ in the last
     digits between platforms, so the comparison allows a hundredth of a degree."""
     shipped = (ROOT / "seeds" / "horse_walk.csv").read_text()
-    assert (ROOT / "gaitgram" / "seed" / "horse_walk.csv").read_text() == shipped
+    assert (ROOT / "gaitgram" / "motion" / "horse_walk.csv").read_text() == shipped
     fitted = fit_seed(build_seed())
     for joint, values in load_seed().angles.items():
         np.testing.assert_allclose(values, fitted.angles[joint], atol=0.01, err_msg=joint)

@@ -37,7 +37,7 @@ NOT_WALKING = "not walking again: "
 @cache
 def real_walks() -> dict[str, Any]:
     """The DLC_Horse summary shipped with gaitgram (``seeds/dlc_walk.json``)."""
-    return json.loads(packaged("gaitgram.seed", "dlc_walk.json").read_text(encoding="utf-8"))
+    return json.loads(packaged(__package__, "dlc_walk.json").read_text(encoding="utf-8"))
 
 
 @cache

@@ -27,7 +27,7 @@ import numpy as np
 from gaitgram.backends.mujoco_horse.joints import CATALOGUE
 from gaitgram.backends.mujoco_horse.model import horse_layout, joint_name, load_model
 from gaitgram.extras import require
-from gaitgram.seed.data import SeedCurves
+from gaitgram.motion.seed_walk import SeedCurves
 
 #: The limb chains the fit solves, proximal to distal (left limbs; right ones share the curves).
 CHAINS = {
