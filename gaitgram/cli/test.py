@@ -21,8 +21,8 @@ from gaitgram.cli.options import Defines, Representation, RepresentationSettings
 from gaitgram.ge import CodonMode, compile_mapper
 from gaitgram.ge.registry import DEFAULT_REPRESENTATION, Compiled
 from gaitgram.ge.visualise import ascii_tree
-from gaitgram.properties import BUILT_IN, Context, Property
 from gaitgram.testing import derivations, initial_genomes
+from gaitgram.testing.properties import BUILT_IN, Context, Property
 
 
 class OutputFormat(StrEnum):

@@ -14,8 +14,8 @@ from conftest import GRAMMARS, VECTOR_DEFINES, vector_grammars
 from gaitgram.cli import app
 from gaitgram.ge import compile_mapper
 from gaitgram.language import load, parse
-from gaitgram.properties import BUILT_IN
 from gaitgram.testing import derivations, genomes, motions, phenotypes
+from gaitgram.testing.properties import BUILT_IN
 
 runner = CliRunner()
 
@@ -83,7 +83,7 @@ def test_planted_defects_fail_with_minimal_counterexamples(tmp_path: Path) -> No
 def test_user_properties_from_a_file(tmp_path: Path) -> None:
     props = tmp_path / "props.py"
     props.write_text(
-        "from gaitgram.properties import PropertyFailed\n\n"
+        "from gaitgram.testing.properties import PropertyFailed\n\n"
         "def property_short_phenotypes(derivation, context):\n"
         "    if len(derivation.phenotype) > 15:\n"
         "        raise PropertyFailed('too long')\n"

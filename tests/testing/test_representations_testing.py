@@ -14,8 +14,8 @@ from typer.testing import CliRunner
 from gaitgram.cli import app
 from gaitgram.ge import Derivation
 from gaitgram.language import parse
-from gaitgram.properties import BUILT_IN
 from gaitgram.testing import derivations, motions
+from gaitgram.testing.properties import BUILT_IN
 
 runner = CliRunner()
 

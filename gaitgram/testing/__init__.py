@@ -21,6 +21,9 @@ Another representation than GE (``representation="sge"``, with its ``settings``)
 derivations of the genomes its own initialisation makes, as a run's first generation, each from a
 drawn seed: they keep to the representation's depth limits, but shrink toward one genome (seed
 0's) rather than toward small trees.
+
+The properties ``gaitgram test`` checks on them, and the ``PropertyFailed`` a user's own raise, are
+in :mod:`gaitgram.testing.properties`.
 """
 
 from __future__ import annotations
@@ -38,7 +41,7 @@ from gaitgram.ge.mapper import Mapper
 from gaitgram.ge.registry import DEFAULT_REPRESENTATION, Compiled, Genome, compile_representation
 from gaitgram.language.model import FREQUENCY, Grammar
 from gaitgram.motion.expression import Motion, compile_motion
-from gaitgram.properties import backend_sensors, nominal_curve
+from gaitgram.testing.properties import backend_sensors, nominal_curve
 
 __all__ = ["compiled_representation", "derivations", "genomes", "initial_genomes", "motions", "phenotypes"]
 
