@@ -15,9 +15,8 @@ from pathlib import Path
 import pytest
 import typer
 
-from gaitgram import docgen
 from gaitgram.analysis.diagnostic_codes import CODES
-from gaitgram.cli import app
+from gaitgram.cli import app, docgen
 
 ROOT = Path(__file__).resolve().parents[1]
 DIAGNOSTICS = ROOT / "docs" / "diagnostics.md"
@@ -32,7 +31,7 @@ def commands() -> list[tuple[str, object]]:
 
 def test_the_diagnostics_page_holds_the_catalogue_the_code_makes() -> None:
     text = DIAGNOSTICS.read_text(encoding="utf-8")
-    assert docgen.refresh(text) == text, "run: python -m gaitgram.docgen docs/diagnostics.md"
+    assert docgen.refresh(text) == text, "run: python -m gaitgram.cli.docgen docs/diagnostics.md"
     assert docgen.main([str(DIAGNOSTICS), "--check"]) == 0
 
 

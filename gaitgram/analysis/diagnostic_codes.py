@@ -2,7 +2,7 @@
 
 A code is declared once, beside the check that finds its problem (see
 :mod:`gaitgram.diagnostics`); this is the list of them all, in code order, that the diagnostics
-catalogue of the docs (``gaitgram.docgen``), SARIF's rule metadata and the tests read.
+catalogue of the docs (``gaitgram.cli.docgen``), SARIF's rule metadata and the tests read.
 """
 
 from __future__ import annotations

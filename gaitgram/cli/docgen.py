@@ -4,7 +4,7 @@ The documentation site (``mkdocs.yml``, its hook ``docs/_site/hooks.py``) builds
 reference from the ``gaitgram`` command tree, as ``--help`` shows it, and the catalogue of
 ``docs/diagnostics.md`` from :data:`gaitgram.analysis.diagnostic_codes.CODES`. The catalogue's sections are
 also kept in the Markdown file itself, between markers, for readers of the repository and for
-the links of ``gaitgram check --format sarif``; ``python -m gaitgram.docgen docs/diagnostics.md``
+the links of ``gaitgram check --format sarif``; ``python -m gaitgram.cli.docgen docs/diagnostics.md``
 rewrites them (``--check``: exit 1 if the file is not current, which the tests check too).
 """
 
@@ -19,7 +19,7 @@ from typing import Any
 from gaitgram.analysis.diagnostic_codes import CODES
 
 #: ``<!-- generated: NAME -->`` ... ``<!-- end generated: NAME -->`` hold what :data:`SECTIONS` makes.
-BEGIN, END = "<!-- generated: {} (python -m gaitgram.docgen) -->", "<!-- end generated: {} -->"
+BEGIN, END = "<!-- generated: {} (python -m gaitgram.cli.docgen) -->", "<!-- end generated: {} -->"
 
 
 def codes_table() -> str:
@@ -152,7 +152,7 @@ def _slug(heading: str) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m gaitgram.docgen FILE... [--check]``: rewrite (or check) the generated sections."""
+    """``python -m gaitgram.cli.docgen FILE... [--check]``: rewrite (or check) the generated sections."""
     args = sys.argv[1:] if argv is None else argv
     check = "--check" in args
     stale = []
