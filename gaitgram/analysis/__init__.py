@@ -8,7 +8,7 @@ from gaitgram.analysis.cfg import Cfg, build_cfg
 from gaitgram.analysis.facts import GrammarFacts, RuleFacts, analyse
 from gaitgram.analysis.lint import lint
 from gaitgram.collector import without_gc
-from gaitgram.diagnostics import Diagnostic
+from gaitgram.language.diagnostics import Diagnostic
 from gaitgram.language.model import Grammar
 
 __all__ = ["Cfg", "CheckResult", "GrammarFacts", "RuleFacts", "analyse", "build_cfg", "check", "lint"]

@@ -1,15 +1,15 @@
 """Every diagnostic code, gathered from the modules that declare them.
 
 A code is declared once, beside the check that finds its problem (see
-:mod:`gaitgram.diagnostics`); this is the list of them all, in code order, that the diagnostics
+:mod:`gaitgram.language.diagnostics`); this is the list of them all, in code order, that the diagnostics
 catalogue of the docs (``gaitgram.cli.docgen``), SARIF's rule metadata and the tests read.
 """
 
 from __future__ import annotations
 
 from gaitgram.analysis.lint import joint_checks, rule_checks, sensor_checks
-from gaitgram.diagnostics import Code
 from gaitgram.language import annotations, look_alikes, meaning, problems, ranges
+from gaitgram.language.diagnostics import Code
 
 __all__ = ["CODES", "CODES_BY_NAME"]
 

@@ -15,9 +15,9 @@ from pathlib import Path
 from gaitgram.analysis import CheckResult, check
 from gaitgram.analysis.fixes import AppliedFix, FixOutcome, fix_source
 from gaitgram.analysis.report import CheckedFile, effective_severity, plural
-from gaitgram.diagnostics import Severity
 from gaitgram.fileio import OutputError, check_rewritable, write_output
 from gaitgram.language import parse
+from gaitgram.language.diagnostics import Severity
 from gaitgram.language.edits import unified_diff
 from gaitgram.language.source import SourceError, decode_source, describe_os_error, encode_as_read, read_bytes
 

@@ -1,6 +1,6 @@
 """Applying the fixes diagnostics carry: ``gaitgram check --fix``, and fixes combined for editors.
 
-A :class:`~gaitgram.diagnostics.Diagnostic` carries its fixes as data (made by the
+A :class:`~gaitgram.language.diagnostics.Diagnostic` carries its fixes as data (made by the
 builder and the linter, where the names and spans are known); this module only chooses
 and applies them. :func:`fix_source` is what ``check --fix`` does to one file:
 
@@ -28,8 +28,8 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 from gaitgram.analysis import CheckResult, check
-from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, TextEdit
 from gaitgram.language import parse
+from gaitgram.language.diagnostics import Applicability, Code, Diagnostic, Fix, TextEdit
 from gaitgram.language.edits import EditConflict, apply_edits, conflicts, normalized, union
 from gaitgram.language.source import Location, SourceText
 

@@ -16,7 +16,7 @@ from typing import Any
 from rich.cells import cell_len
 
 from gaitgram.collector import without_gc
-from gaitgram.diagnostics import Diagnostic, Fix, Severity
+from gaitgram.language.diagnostics import Diagnostic, Fix, Severity
 from gaitgram.language.source import SourceError, SourceText
 
 __all__ = [

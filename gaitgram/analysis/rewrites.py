@@ -1,4 +1,4 @@
-"""Rewrites of a rule that keep its meaning exactly, as :class:`~gaitgram.diagnostics.Fix` data:
+"""Rewrites of a rule that keep its meaning exactly, as :class:`~gaitgram.language.diagnostics.Fix` data:
 the editor's refactorings, made by the library so that any front end offers the same ones.
 
 * collapse a written-out list of evenly spaced numbers (``0 | 0.25 | 0.5 | ... | 2``) into the
@@ -12,7 +12,7 @@ from __future__ import annotations
 from decimal import Decimal, InvalidOperation
 from itertools import pairwise
 
-from gaitgram.diagnostics import Applicability, Fix, TextEdit
+from gaitgram.language.diagnostics import Applicability, Fix, TextEdit
 from gaitgram.language.model import Alternative, Rule, Terminal
 from gaitgram.language.parser import terminal
 from gaitgram.language.ranges import parse_range

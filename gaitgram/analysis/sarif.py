@@ -17,7 +17,7 @@ from urllib.parse import quote
 import gaitgram
 from gaitgram.analysis.diagnostic_codes import CODES
 from gaitgram.analysis.report import CheckedFile, effective_severity, machine_json
-from gaitgram.diagnostics import Code, Fix, Severity
+from gaitgram.language.diagnostics import Code, Fix, Severity
 from gaitgram.language.source import SourceError, SourceText, Span
 
 __all__ = ["SCHEMA", "SOURCE_ROOT", "docs_url", "help_uri", "sarif_log", "sarif_report"]

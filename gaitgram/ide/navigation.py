@@ -13,8 +13,8 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from gaitgram.analysis import CheckResult
-from gaitgram.diagnostics import TextEdit
 from gaitgram.language.annotations import rule_references
+from gaitgram.language.diagnostics import TextEdit
 from gaitgram.language.model import Grammar, Rule
 from gaitgram.language.source import Span
 from gaitgram.language.syntax import is_rule_name

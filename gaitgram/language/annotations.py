@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from difflib import get_close_matches
 from enum import StrEnum
 
-from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
+from gaitgram.language.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
 from gaitgram.language.model import Annotation, Argument, ArgumentValue, Interval, Name, RuleRef
 from gaitgram.language.numbers import NUMBER_LIMITS, number_problem, read_number
 from gaitgram.language.source import Span

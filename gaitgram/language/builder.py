@@ -23,8 +23,8 @@ from typing import NamedTuple
 
 from lark import Token, Tree
 
-from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit
 from gaitgram.language.annotations import CheckedAnnotation, Target, check_annotation, unreadable_argument
+from gaitgram.language.diagnostics import Applicability, Diagnostic, Fix, TextEdit
 from gaitgram.language.escapes import unescape
 from gaitgram.language.lexer import Piece
 from gaitgram.language.look_alikes import HINT as LOOK_ALIKE_HINT

@@ -1,6 +1,6 @@
 """Text edits: applying a set of them at once, and the spans that fixes delete.
 
-Fixes are made by the builder and the linter (as :class:`~gaitgram.diagnostics.Fix`
+Fixes are made by the builder and the linter (as :class:`~gaitgram.language.diagnostics.Fix`
 data) and applied by ``gaitgram check --fix``, the language server and tests alike, so
 what "applying" means is defined once, here: every edit's span is an offset range of
 the text the edits were made for, edits never overlap, and they are applied together.
@@ -13,7 +13,7 @@ import os
 import re
 from collections.abc import Iterable
 
-from gaitgram.diagnostics import Applicability, Fix, TextEdit
+from gaitgram.language.diagnostics import Applicability, Fix, TextEdit
 from gaitgram.language.source import SourceText, Span
 
 __all__ = [

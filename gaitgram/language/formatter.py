@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 from lark import Token, Tree
 
-from gaitgram.diagnostics import Diagnostic
 from gaitgram.language import parse
+from gaitgram.language.diagnostics import Diagnostic
 from gaitgram.language.lexer import Piece
 from gaitgram.language.model import Grammar
 from gaitgram.language.parser import parse_tree, scanner, tree_end, tree_start

@@ -14,7 +14,7 @@ import re
 from dataclasses import dataclass
 from functools import cache
 
-from gaitgram.diagnostics import Applicability, Code, Severity
+from gaitgram.language.diagnostics import Applicability, Code, Severity
 from gaitgram.language.model import RangeKind
 from gaitgram.language.parser import terminal
 from gaitgram.language.ranges import RangeEdit, RangeFix, apply_range_edits, range_reads

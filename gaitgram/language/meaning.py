@@ -25,8 +25,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
-from gaitgram.diagnostics import Applicability, Code, Diagnostic, Severity
 from gaitgram.language.annotations import ANNOTATIONS, CheckedAnnotation, Target, check_annotation
+from gaitgram.language.diagnostics import Applicability, Code, Diagnostic, Severity
 from gaitgram.language.edits import deletion_fix
 from gaitgram.language.model import (
     Annotation,

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from enum import StrEnum
 from functools import cached_property
 
-from gaitgram.diagnostics import Diagnostic
+from gaitgram.language.diagnostics import Diagnostic
 from gaitgram.language.source import SourceText, Span
 
 __all__ = [

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
+from gaitgram.language.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
 from gaitgram.language.edits import deletion_fix
 from gaitgram.language.escapes import EscapeError
 from gaitgram.language.model import Annotation

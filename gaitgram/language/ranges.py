@@ -27,7 +27,7 @@ from itertools import pairwise
 from lark import Token, Tree
 from lark.exceptions import LarkError, UnexpectedCharacters, UnexpectedEOF, UnexpectedToken
 
-from gaitgram.diagnostics import Applicability, Code, Severity
+from gaitgram.language.diagnostics import Applicability, Code, Severity
 from gaitgram.language.model import RangeKind, RangeSpec
 from gaitgram.language.numbers import (
     MAGNITUDE_TEXT,
@@ -184,7 +184,7 @@ class RangeEdit:
 
 @dataclass(frozen=True, slots=True)
 class RangeFix:
-    """A fix inside a range's text: the builder turns it into a :class:`~gaitgram.diagnostics.Fix`.
+    """A fix inside a range's text: the builder turns it into a :class:`~gaitgram.language.diagnostics.Fix`.
 
     Only made when the fixed range reads without errors (:func:`_fixed`), so applying it
     never trades one error for another.

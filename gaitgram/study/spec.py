@@ -54,11 +54,11 @@ from gaitgram.configuration import (
     ge_setting_names,
     read_toml,
 )
-from gaitgram.diagnostics import TextEdit
 from gaitgram.evolution.rundir import build_pipeline
 from gaitgram.evolution.transfer import TransferError, start_genomes
 from gaitgram.ge.registry import DEFAULT_REPRESENTATION, representation_names
 from gaitgram.language import parse
+from gaitgram.language.diagnostics import TextEdit
 from gaitgram.language.edits import apply_edits
 from gaitgram.language.ranges import MAX_RANGE_VALUES
 from gaitgram.language.source import SourceError, SourceText, read_source

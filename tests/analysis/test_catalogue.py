@@ -12,8 +12,8 @@ import gaitgram
 from gaitgram.analysis import check
 from gaitgram.analysis.diagnostic_codes import CODES, CODES_BY_NAME
 from gaitgram.analysis.lint.rule_checks import UNREACHABLE_RULE
-from gaitgram.diagnostics import Code, Fix, Severity, TextEdit
 from gaitgram.language import parse
+from gaitgram.language.diagnostics import Code, Fix, Severity, TextEdit
 from gaitgram.language.source import Span
 
 

@@ -15,8 +15,8 @@ from conftest import GRAMMARS
 from gaitgram.analysis import CheckResult, check
 from gaitgram.analysis.diagnostic_codes import CODES
 from gaitgram.analysis.fixes import chosen_fix, combine, error_keys, fix_all, fix_source, no_worse
-from gaitgram.diagnostics import Applicability, Diagnostic, Fix, TextEdit
 from gaitgram.language import parse
+from gaitgram.language.diagnostics import Applicability, Diagnostic, Fix, TextEdit
 from gaitgram.language.edits import EditConflict, apply_edits, removal
 from gaitgram.language.model import Grammar, NonTerminal, RangeSymbol, Terminal
 from gaitgram.language.source import SourceText, Span

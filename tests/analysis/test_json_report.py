@@ -12,8 +12,8 @@ from hypothesis import strategies as st
 
 from gaitgram.analysis import check
 from gaitgram.analysis.report import CheckedFile, effective_severity, json_report
-from gaitgram.diagnostics import Diagnostic
 from gaitgram.language import parse
+from gaitgram.language.diagnostics import Diagnostic
 from gaitgram.language.source import SourceText
 
 PIECES = [

@@ -17,8 +17,8 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from gaitgram.analysis import check
-from gaitgram.diagnostics import Severity
 from gaitgram.language import parse
+from gaitgram.language.diagnostics import Severity
 from gaitgram.language.model import Grammar, RangeSpec
 from gaitgram.language.ranges import MAX_RANGE_VALUES
 

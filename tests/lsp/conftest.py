@@ -19,8 +19,8 @@ from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities
 from pytest_lsp.client import DEFAULT_CLIENT_FEATURES, register_lsp_features
 
 from gaitgram.analysis import check
-from gaitgram.diagnostics import Severity
 from gaitgram.language import parse
+from gaitgram.language.diagnostics import Severity
 from gaitgram.language.source import SourceText
 
 SERVER = [sys.executable, "-m", "gaitgram_lsp"]

@@ -21,7 +21,7 @@ from gaitgram.analysis.lint.rule_checks import (
     unreachable_rules,
 )
 from gaitgram.analysis.lint.sensor_checks import motion_names
-from gaitgram.diagnostics import Diagnostic
+from gaitgram.language.diagnostics import Diagnostic
 from gaitgram.language.model import Grammar
 
 __all__ = ["CHECKS", "Check", "lint"]

@@ -12,7 +12,7 @@ from difflib import get_close_matches
 from types import ModuleType
 
 from gaitgram.analysis.facts import INFINITE, GrammarFacts, Occurrences, derived_exactly_once
-from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
+from gaitgram.language.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
 from gaitgram.language.model import Grammar
 
 __all__ = [

@@ -16,8 +16,8 @@ from functools import partial
 
 from gaitgram.analysis.cfg import RuleKind
 from gaitgram.analysis.facts import GrammarFacts, min_depths
-from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
 from gaitgram.language.annotations import rule_references
+from gaitgram.language.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
 from gaitgram.language.edits import blank_end, line_end, removal, union
 from gaitgram.language.model import Grammar, NonTerminal, Rule
 from gaitgram.language.problems import UNTERMINATED_STRING

@@ -16,7 +16,7 @@ from difflib import get_close_matches
 from gaitgram.analysis.facts import GrammarFacts
 from gaitgram.analysis.motion_text import NameUse, SensorScope, name_uses
 from gaitgram.backends.sensors import Sensor
-from gaitgram.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
+from gaitgram.language.diagnostics import Applicability, Code, Diagnostic, Fix, Severity, TextEdit
 from gaitgram.language.model import FREQUENCY, Grammar
 from gaitgram.motion.names import CONSTANTS, FUNCTION_DOCS, UNSUPPORTED, VARIABLE
 

@@ -14,7 +14,7 @@ from lsprotocol import types
 from gaitgram.analysis.fixes import fix_all
 from gaitgram.analysis.rewrites import range_for as range_for  # re-exported: tests use it from here
 from gaitgram.analysis.rewrites import rewrites
-from gaitgram.diagnostics import Diagnostic, Fix
+from gaitgram.language.diagnostics import Diagnostic, Fix
 from gaitgram_lsp.documents import Snapshot
 from gaitgram_lsp.features.diagnostics import to_lsp, wire_diagnostic
 

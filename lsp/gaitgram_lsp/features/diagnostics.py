@@ -17,7 +17,7 @@ from lsprotocol import types
 from pygls.protocol import default_converter
 
 from gaitgram.analysis import CheckResult
-from gaitgram.diagnostics import Diagnostic, Severity
+from gaitgram.language.diagnostics import Diagnostic, Severity
 from gaitgram_lsp.positions import PositionIndex
 
 SOURCE = "gaitgram"
