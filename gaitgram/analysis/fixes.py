@@ -28,6 +28,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 from gaitgram.analysis import CheckResult, check
+from gaitgram.analysis.lint.sensor_checks import CODES as CURVE_NAME_CODES
 from gaitgram.language import parse
 from gaitgram.language.diagnostics import Applicability, Code, Diagnostic, Fix, TextEdit
 from gaitgram.language.edits import EditConflict, apply_edits, conflicts, normalized, union
@@ -101,11 +102,18 @@ def chosen_fix(found: Diagnostic, *, unsafe: bool = False) -> Fix | None:
 
 def error_keys(result: CheckResult) -> Counter[ErrorKey]:
     """The errors of a check as (code, rule, text they are about), which moving text around
-    leaves alone; a fix may only make this multiset smaller."""
+    leaves alone; a fix may only make this multiset smaller. A name in a curve is read across
+    terminals (``'x'int[1..5`` reads ``xint``), so a fix of a neighbouring terminal changes the
+    name without adding an error: those errors count per rule, whatever the name."""
     text = result.grammar.source.text
     return Counter(
-        (d.code.code, d.rule, text[d.span.start : d.span.end]) for d in result.diagnostics if d.is_error
+        (d.code.code, d.rule, "" if d.code in _PER_RULE else text[d.span.start : d.span.end])
+        for d in result.diagnostics
+        if d.is_error
     )
+
+
+_PER_RULE = frozenset(CURVE_NAME_CODES)
 
 
 def no_worse(before: CheckResult, after: CheckResult) -> bool:
