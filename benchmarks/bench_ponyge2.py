@@ -317,7 +317,7 @@ def execute(
 
 def summary(found: list[dict[str, Any]], problems: list[str]) -> dict[str, Any]:
     """Per problem: both tools' final bests, the rank test and A12, and the time ratios."""
-    from gaitgram.study.stats import compare
+    from gaitgram.report.stats import compare
 
     table: dict[str, Any] = {}
     for name in problems:

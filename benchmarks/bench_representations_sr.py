@@ -17,7 +17,7 @@ comparison, seed for seed. Tested, whatever they say:
   and over the last tenth of the generations, compared run by run (Wilcoxon's signed-rank test,
   Holm over every representation and problem).
 
-The statistics are scipy.stats' through :mod:`gaitgram.study.stats`. Runs go one after another in
+The statistics are scipy.stats' through :mod:`gaitgram.report.stats`. Runs go one after another in
 this process (one worker), the representations alternating run by run. The PonyGE2 checkout gives
 the grammars and Vladislavleva-4's data (no PonyGE2 run, no interpreter of its own)::
 
@@ -269,7 +269,7 @@ def summary(
     """Everything comparison.json holds, computed from the records alone."""
     import numpy as np
 
-    from gaitgram.study.stats import a12_magnitude, compare, holm, paired_wilcoxon
+    from gaitgram.report.stats import a12_magnitude, compare, holm, paired_wilcoxon
 
     refused = {f"{r['problem']}/{r['representation']}": r["refused"] for r in found if "refused" in r}
     budget = {(r["generations"], r["population"]) for r in found if "refused" not in r}

@@ -256,7 +256,7 @@ def test_no_floor_above_the_backends_names_a_backend(graph: dict[str, dict[str, 
     names, patterns = floors()
     modules = module_files()
     above = [m for m in sorted(graph) if _above_the_backends(m, patterns, names)]
-    assert {"gaitgram.study.gallery", "gaitgram.cli.render", "gaitgram.seed.grammars"} <= set(above)
+    assert {"gaitgram.report.gallery", "gaitgram.cli.render", "gaitgram.seed.grammars"} <= set(above)
     imports = [
         _where(graph, source, target)
         for source in above
@@ -284,7 +284,7 @@ def test_the_name_check_sees_strings_but_not_docstrings() -> None:
     )
     spelt = spelt_names("gaitgram.pipeline", tree, {"mujoco-horse"})
     assert spelt == [("mujoco-horse", 5), ("mujoco-horse", 5)]
-    assert len(spelt_names("gaitgram.study.gallery", tree, {"mujoco-horse"})) == 3  # no default there
+    assert len(spelt_names("gaitgram.report.gallery", tree, {"mujoco-horse"})) == 3  # no default there
 
 
 #: What run and study directories keep, named in ``gaitgram.runlayout`` alone (docs/architecture.md:
@@ -308,7 +308,7 @@ LAYOUT_NAMES = {
     "run-[",
 }
 #: Files of other directories that share a name with a run directory's: a report's summary.
-OTHER_LAYOUTS = {("gaitgram.study.formats", "summary.json")}
+OTHER_LAYOUTS = {("gaitgram.report.formats", "summary.json")}
 
 
 def run_names_spelt(module: str, tree: ast.Module) -> list[tuple[str, int]]:

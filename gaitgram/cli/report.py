@@ -10,10 +10,10 @@ from typing import Annotated
 import typer
 
 from gaitgram.cli.common import check_output, err, fail, interrupted, mend_outputs, require_extra
+from gaitgram.report.gallery import GalleryError
+from gaitgram.report.make import HTML, ReportInterrupted, make_report, watch_report
+from gaitgram.report.records import ReportError
 from gaitgram.runlayout import ASSESSMENT, in_run
-from gaitgram.study.gallery import GalleryError
-from gaitgram.study.records import ReportError
-from gaitgram.study.report import HTML, ReportInterrupted, make_report, watch_report
 
 _Directories = Annotated[
     list[Path],

@@ -162,7 +162,7 @@ def _summary(results: list[RunBest], verdict: Verdict | None) -> dict[str, Any]:
             for name in names
         }
         return {"runs": len(results), "playings": playings, "paired": [], "note": str(missing)}
-    from gaitgram.study.stats import paired_summary
+    from gaitgram.report.stats import paired_summary
 
     return paired_summary(fitness, walks)
 

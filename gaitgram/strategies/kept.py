@@ -3,7 +3,7 @@
 Read from the records a run directory keeps beside ``best.json`` (``front.json``
 of ``nsga2``, ``archive.json`` of ``map-elites``, or any plug-in that writes the
 same), so a report or ``--walk`` needs neither the strategy's library nor its
-pickled state. The report draws them (:mod:`gaitgram.study.figures`).
+pickled state. The report draws them (:mod:`gaitgram.report.figures`).
 """
 
 from __future__ import annotations

@@ -1,1 +1,2 @@
-"""Studies: the paper's experiments in one command, with honest statistics."""
+"""Studies: the paper's experiments in one command (the study file, its runs, its manifest); their
+reports are :mod:`gaitgram.report`'s."""

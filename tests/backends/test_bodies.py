@@ -34,8 +34,8 @@ from gaitgram.evolution.retarget import retarget as retarget_run
 from gaitgram.evolution.rundir import RunDirectory
 from gaitgram.evolution.session import run_session
 from gaitgram.pipeline import Pipeline
+from gaitgram.report.stats import wilson_interval
 from gaitgram.seed import load_seed
-from gaitgram.study.stats import wilson_interval
 
 runner = CliRunner()
 HYBRID = str(GRAMMARS / "hybrid.gg")

@@ -10,7 +10,7 @@ from evolution.test_evolution import config_file
 from typer.testing import CliRunner
 
 from gaitgram.cli import app
-from gaitgram.study.records import load_arm
+from gaitgram.report.records import load_arm
 
 runner = CliRunner()
 

@@ -17,8 +17,8 @@ from gaitgram.analysis import check
 from gaitgram.cli import app
 from gaitgram.language import parse
 from gaitgram.language.source import read_source
+from gaitgram.report.records import load_study_arms
 from gaitgram.strategies.registry import run_pipeline
-from gaitgram.study.records import load_study_arms
 from gaitgram.study.spec import ScaleDown, StudyError, load_study
 
 runner = CliRunner()

@@ -11,8 +11,8 @@ import pytest
 
 from conftest import ROOT
 from gaitgram.backends.mujoco_horse.targets import TASK_REVISION, WALK_CRITERION
+from gaitgram.report.assess import FORMAT
 from gaitgram.runlayout import ASSESSMENT, BEST_WALK
-from gaitgram.study.assess import FORMAT
 
 RESULTS = ROOT / "docs" / "results"
 CURRENT = sorted(

@@ -7,8 +7,8 @@ import pytest
 
 from gaitgram.backends.mujoco_horse.robustness import GRADES
 from gaitgram.backends.mujoco_horse.robustness import Rung as GradeRung
-from gaitgram.study.graded import graded_section
-from gaitgram.study.realism_robustness import ArmAssessed, Assessed, Rung
+from gaitgram.report.graded import graded_section
+from gaitgram.report.realism_robustness import ArmAssessed, Assessed, Rung
 
 
 def _gait(run: int, walk: bool, held: dict[str, bool] | None) -> Assessed:

@@ -14,7 +14,7 @@ from study.report_fixtures import write_hand_made_study
 from typer.testing import CliRunner
 
 from gaitgram.cli import app
-from gaitgram.study.model import ONE_ARM_NOTE
+from gaitgram.report.sections import ONE_ARM_NOTE
 
 runner = CliRunner()
 SCREEN = 40

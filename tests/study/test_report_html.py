@@ -23,10 +23,10 @@ from study.report_fixtures import write_hand_made_study
 from typer.testing import CliRunner
 
 from gaitgram.cli import app
-from gaitgram.study.html import html
-from gaitgram.study.model import Figure, Gait, Section
-from gaitgram.study.records import load_arms
-from gaitgram.study.report import study_report
+from gaitgram.report.html import html
+from gaitgram.report.make import study_report
+from gaitgram.report.records import load_arms
+from gaitgram.report.sections import Figure, Gait, Section
 
 runner = CliRunner()
 

@@ -31,11 +31,11 @@ from study.report_fixtures import write_hand_made_study
 from typer.testing import CliRunner
 
 from gaitgram.cli import app
-from gaitgram.study.escape import printable
-from gaitgram.study.formats import text_files
-from gaitgram.study.html import html
-from gaitgram.study.records import load_arms
-from gaitgram.study.report import study_report
+from gaitgram.report.escape import printable
+from gaitgram.report.formats import text_files
+from gaitgram.report.html import html
+from gaitgram.report.make import study_report
+from gaitgram.report.records import load_arms
 
 runner = CliRunner()
 STUDY_ARMS = ("alpha", "beta_front", "gamma")

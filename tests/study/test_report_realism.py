@@ -28,9 +28,9 @@ from typer.testing import CliRunner
 from conftest import GRAMMARS
 from gaitgram.cli import app
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_walk_of_runs
+from gaitgram.report import assess as assess_module
+from gaitgram.report.assess import assess_arm, best_walk_path
 from gaitgram.runlayout import ASSESSMENT, BEST_WALK
-from gaitgram.study import assess as assess_module
-from gaitgram.study.assess import assess_arm, best_walk_path
 
 runner = CliRunner()
 PAPER_WEIGHTS = (
@@ -354,7 +354,7 @@ def test_a_report_over_the_first_runs_measures_their_best_walk_apart(
 
 def test_the_terms_a_disturbed_gait_failed_are_counted_from_its_detail() -> None:
     from gaitgram.backends.registry import get_backend
-    from gaitgram.study.realism_robustness import Trial, _failing_terms
+    from gaitgram.report.realism_robustness import Trial, _failing_terms
 
     declared = get_backend("mujoco-horse").assessment
     assert declared is not None

@@ -13,8 +13,8 @@ from study.report_fixtures import write_hand_made_study
 from typer.testing import CliRunner
 
 from gaitgram.cli import app
-from gaitgram.study.records import load_arms
-from gaitgram.study.report import HTML, kept_sets, watch_report
+from gaitgram.report.make import HTML, kept_sets, watch_report
+from gaitgram.report.records import load_arms
 
 runner = CliRunner()
 WINDOW = re.compile(r"\*\*First runs only\*\*.*?\n\n.*?\n\n", re.DOTALL)

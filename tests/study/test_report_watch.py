@@ -16,8 +16,8 @@ from study.report_fixtures import write_hand_made_study
 from typer.testing import CliRunner
 
 from gaitgram.cli import app
-from gaitgram.study.records import ReportError, load_arms
-from gaitgram.study.report import HTML, watch_report
+from gaitgram.report.make import HTML, watch_report
+from gaitgram.report.records import ReportError, load_arms
 
 runner = CliRunner()
 REFRESH = re.compile(r'<meta http-equiv="refresh" content="(\d+)">')

@@ -20,10 +20,9 @@ from typer.testing import CliRunner
 
 from conftest import CURVE_GRAMMAR, CURVE_STUDY
 from gaitgram.cli import app
-from gaitgram.study.model import build_report
-from gaitgram.study.records import load_study_arms
-from gaitgram.study.spec import ScaleDown, StudyError, load_study
-from gaitgram.study.stats import (
+from gaitgram.report.records import load_study_arms
+from gaitgram.report.sections import build_report
+from gaitgram.report.stats import (
     a12,
     compare_rates,
     compare_spreads,
@@ -32,6 +31,7 @@ from gaitgram.study.stats import (
     paired_summary,
     wilson_interval,
 )
+from gaitgram.study.spec import ScaleDown, StudyError, load_study
 
 runner = CliRunner()
 
@@ -162,7 +162,7 @@ def test_runs_of_different_budgets_are_not_reported_together(tmp_path: Path) -> 
     assert (
         gaitgram("study", str(study), "-o", str(tmp_path / "b"), "-q", "--generations", "3").returncode == 0
     )
-    from gaitgram.study.records import ReportError, load_arm
+    from gaitgram.report.records import ReportError, load_arm
 
     arms = [
         load_arm(tmp_path / "a" / "arms" / "plain", "two"),
@@ -269,7 +269,7 @@ def test_the_bundled_paper_studies_load_at_the_table_1_budget_and_scale_down() -
 
 
 def test_a_small_share_never_reads_as_none() -> None:
-    from gaitgram.study.model import share_text as _rate
+    from gaitgram.report.sections import share_text as _rate
 
     assert [_rate(v) for v in (0.0, 0.0004, 0.004, 0.9, None)] == ["0%", "< 0.1%", "0.4%", "90%", "n/a"]
 
@@ -338,8 +338,8 @@ def write_arm(path: Path, runs: list[dict]) -> Path:
 
 
 def test_walk_held_counts_what_each_strategy_hands_back(tmp_path: Path) -> None:
-    from gaitgram.study.formats import csv_text, markdown
-    from gaitgram.study.records import load_arm
+    from gaitgram.report.formats import csv_text, markdown
+    from gaitgram.report.records import load_arm
 
     # A walk in the final population although the best is not one (as CMA-ES's runs end).
     population = write_arm(
@@ -382,8 +382,8 @@ def test_walk_held_counts_what_each_strategy_hands_back(tmp_path: Path) -> None:
 
 
 def test_the_first_walk_is_the_first_generation_whose_population_holds_one(tmp_path: Path) -> None:
-    from gaitgram.study.model import first_walk_section
-    from gaitgram.study.records import load_arm
+    from gaitgram.report.records import load_arm
+    from gaitgram.report.sections import first_walk_section
 
     early = write_arm(
         tmp_path / "early",
@@ -405,8 +405,8 @@ def test_the_first_walk_is_the_first_generation_whose_population_holds_one(tmp_p
 
 
 def test_where_the_runs_started_is_each_runs_first_generation_best(tmp_path: Path) -> None:
-    from gaitgram.study.model import start_section
-    from gaitgram.study.records import load_arm
+    from gaitgram.report.records import load_arm
+    from gaitgram.report.sections import start_section
 
     def runs(*bests: list[float]) -> list[dict]:
         return [{"best_walk": 1.0, "bests": b} for b in bests]
@@ -423,7 +423,7 @@ def test_where_the_runs_started_is_each_runs_first_generation_best(tmp_path: Pat
 
 
 def test_an_unreadable_front_is_a_report_error(tmp_path: Path) -> None:
-    from gaitgram.study.records import ReportError, load_arm
+    from gaitgram.report.records import ReportError, load_arm
 
     arm = write_arm(tmp_path / "arm", [{"best_walk": 0.0, "front.json": [1.0]}])
     for broken, problem in [
@@ -439,7 +439,7 @@ def test_an_unreadable_front_is_a_report_error(tmp_path: Path) -> None:
 
 
 def test_a_front_that_is_the_whole_population_is_called_out() -> None:
-    from gaitgram.study.model import saturation as _saturation
+    from gaitgram.report.sections import saturation as _saturation
 
     assert _saturation([70, 74], 75) == ""
     note = _saturation([75, 60, 75], 75)

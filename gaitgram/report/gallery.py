@@ -22,10 +22,10 @@ from gaitgram.backends.registry import installed_backend
 from gaitgram.evolution.rundir import KeptGait, RunDirectory, RunDirectoryError, best_walk_of_runs
 from gaitgram.ge.registry import Genome
 from gaitgram.pipeline import PipelineError
+from gaitgram.report import escape
+from gaitgram.report.records import ArmRecord, ReportError
+from gaitgram.report.sections import Figure, Gait, Section, figure_name
 from gaitgram.strategies.kept import Front, Repertoire
-from gaitgram.study import escape
-from gaitgram.study.model import Figure, Gait, Section, figure_name
-from gaitgram.study.records import ArmRecord, ReportError
 
 
 class GalleryError(ValueError):

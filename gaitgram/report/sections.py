@@ -1,7 +1,7 @@
 """A study report as data: what every format shows, computed once, drawn by the renderers.
 
 A :class:`StudyReport` holds the per-arm summaries (:class:`ArmSummary`), the
-rank tests (:class:`~gaitgram.study.stats.Comparison`) and the report's
+rank tests (:class:`~gaitgram.report.stats.Comparison`) and the report's
 **sections** (:class:`Section`) in document order: the summary, then further
 sections such as the fronts and repertoires of ``nsga2`` and ``map-elites`` arms
 or the animated gaits. A section is plain data: a title, text, named
@@ -15,7 +15,7 @@ renderer draws every section generically. Markdown and HTML draw all of it;
 LaTeX a booktabs table per table; CSV a file per table
 (``SECTION-TABLE.csv``); JSON the tables and tests under ``sections``; the
 figures are written as files and embedded in the HTML (a new kind of figure
-data needs a drawer in :mod:`gaitgram.study.figures`). The summary itself is
+data needs a drawer in :mod:`gaitgram.report.figures`). The summary itself is
 drawn generically in Markdown and HTML, and in its committed layouts in
 ``summary.csv``, ``tables.tex`` and ``summary.json``, which studies in
 docs/results keep byte for byte.
@@ -36,10 +36,9 @@ import numpy as np
 
 from gaitgram.backends.api import Verdict
 from gaitgram.ge.registry import DEFAULT_REPRESENTATION
-from gaitgram.strategies.kept import Front, Repertoire
-from gaitgram.study import escape
-from gaitgram.study.records import ArmRecord, ReportError, check_comparable, scoring_listing
-from gaitgram.study.stats import (
+from gaitgram.report import escape
+from gaitgram.report.records import ArmRecord, ReportError, check_comparable, scoring_listing
+from gaitgram.report.stats import (
     Comparison,
     bootstrap_median_ci,
     compare,
@@ -47,6 +46,7 @@ from gaitgram.study.stats import (
     compare_spreads,
     wilson_interval,
 )
+from gaitgram.strategies.kept import Front, Repertoire
 
 # ---- the building blocks of a section --------------------------------------------------------
 
@@ -157,7 +157,7 @@ class RankTests:
 @dataclass(frozen=True)
 class Figure:
     """A figure the report writes as files (``NAME.png``, ...) and embeds in its HTML; ``data`` is
-    what :mod:`gaitgram.study.figures` draws (or, for a ``.gif``, the gait the gallery animates)."""
+    what :mod:`gaitgram.report.figures` draws (or, for a ``.gif``, the gait the gallery animates)."""
 
     name: str
     caption: str

@@ -30,9 +30,9 @@ from gaitgram.ge.registry import DEFAULT_REPRESENTATION
 from gaitgram.language.source import path_problem
 from gaitgram.pipeline import DEFAULT_BACKEND
 from gaitgram.plugins import PluginLoadError, PluginNotFound
+from gaitgram.report import escape
 from gaitgram.runlayout import ARMS, BEST, CONFIG, MANIFEST, STATS_JSONL, STUDY_MANIFEST, run_path
 from gaitgram.strategies.kept import RecordError, kept_members
-from gaitgram.study import escape
 from gaitgram.study.manifest import read_study_manifest
 from gaitgram.study.spec import StudyError
 

@@ -2,7 +2,7 @@
 pushed.
 
 Read from the assessments ``gaitgram report --assess`` keeps in each run directory
-(:mod:`gaitgram.study.assess`; untrusted input, checked as read), never simulated here: the
+(:mod:`gaitgram.report.assess`; untrusted input, checked as read), never simulated here: the
 report stays fast and deterministic. Only arms whose backend measures its gaits have these
 sections, and what they show is what that backend declares it keeps
 (:class:`~gaitgram.backends.api.Assessment`): nothing here knows which backend it is.
@@ -30,12 +30,12 @@ import numpy as np
 from gaitgram import jsonio
 from gaitgram.backends.api import Assessment, ReferenceCurve
 from gaitgram.ge.registry import Genome
+from gaitgram.report import escape
+from gaitgram.report.assess import FORMAT, assessing, assessment_path, best_walk_path, kept_key
+from gaitgram.report.records import ArmRecord, ReportError
+from gaitgram.report.sections import Column, Figure, Kind, RankTests, Section, Table, figure_name
+from gaitgram.report.stats import bootstrap_median_ci, compare
 from gaitgram.runlayout import ASSESSMENT, BEST, in_run, run_path
-from gaitgram.study import escape
-from gaitgram.study.assess import FORMAT, assessing, assessment_path, best_walk_path, kept_key
-from gaitgram.study.model import Column, Figure, Kind, RankTests, Section, Table, figure_name
-from gaitgram.study.records import ArmRecord, ReportError
-from gaitgram.study.stats import bootstrap_median_ci, compare
 
 # ---- what the runs keep ------------------------------------------------------------------------
 

@@ -4,17 +4,17 @@ Per arm, the final generation of every run gives one final best and one final
 average; the report shows them in the layout of the paper's Tables 4 and 5
 (mean ± SD), with medians, bootstrap intervals, the share of unviable gaits,
 the walk rate and the share of runs that hand back a walk at all, and tests
-every difference (:mod:`gaitgram.study.stats`). Arms run at different budgets,
+every difference (:mod:`gaitgram.report.stats`). Arms run at different budgets,
 or scored by different backends, are refused: their numbers do not compare.
 
 The report is made in stages, each its own module:
 
-- :mod:`~gaitgram.study.records` reads the run directories (untrusted input);
-- :mod:`~gaitgram.study.model` makes the report as data: summaries, rank tests and
+- :mod:`~gaitgram.report.records` reads the run directories (untrusted input);
+- :mod:`~gaitgram.report.sections` makes the report as data: summaries, rank tests and
   sections of tables and figures;
-- :mod:`~gaitgram.study.formats` (Markdown, CSV, LaTeX, JSON),
-  :mod:`~gaitgram.study.html`, :mod:`~gaitgram.study.figures` and
-  :mod:`~gaitgram.study.gallery` (GIFs) draw it;
+- :mod:`~gaitgram.report.formats` (Markdown, CSV, LaTeX, JSON),
+  :mod:`~gaitgram.report.html`, :mod:`~gaitgram.report.figures` and
+  :mod:`~gaitgram.report.gallery` (GIFs) draw it;
 - this module writes it, whole or not at all: made in a staging directory and swapped
   into the output directory at once (:func:`gaitgram.fileio.swapped_files`), so that an
   interrupted report (Ctrl-C, a full disk, kill -9) leaves the old report or the new one,
@@ -54,17 +54,23 @@ from gaitgram.fileio import (
     swapped_files,
     write_atomically,
 )
-from gaitgram.runlayout import ARMS, STUDY_MANIFEST
-from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts, load_repertoire
-from gaitgram.study import escape
-from gaitgram.study.assess import assess_arms, assesses, assessing
-from gaitgram.study.figures import draw, rendered
-from gaitgram.study.formats import brief, text_files
-from gaitgram.study.gallery import check_cells, draws, gaits_section, render_gaits, spread_cells
-from gaitgram.study.graded import graded_section
-from gaitgram.study.html import html
-from gaitgram.study.manifest import study_holds
-from gaitgram.study.model import (
+from gaitgram.report import escape
+from gaitgram.report.assess import assess_arms, assesses, assessing
+from gaitgram.report.figures import draw, rendered
+from gaitgram.report.formats import brief, text_files
+from gaitgram.report.gallery import check_cells, draws, gaits_section, render_gaits, spread_cells
+from gaitgram.report.graded import graded_section
+from gaitgram.report.html import html
+from gaitgram.report.realism_robustness import (
+    arm_curves_figure,
+    load_assessed,
+    measured_nothing,
+    realism_section,
+    robustness_section,
+    unmeasured_section,
+)
+from gaitgram.report.records import ArmRecord, ReportError, check_comparable, load_arms, scoring_listing
+from gaitgram.report.sections import (
     Gait,
     Section,
     StudyReport,
@@ -76,16 +82,10 @@ from gaitgram.study.model import (
     start_section,
     walk_rates_section,
 )
-from gaitgram.study.realism_robustness import (
-    arm_curves_figure,
-    load_assessed,
-    measured_nothing,
-    realism_section,
-    robustness_section,
-    unmeasured_section,
-)
-from gaitgram.study.records import ArmRecord, ReportError, check_comparable, load_arms, scoring_listing
-from gaitgram.study.usage import usage_section
+from gaitgram.report.usage import usage_section
+from gaitgram.runlayout import ARMS, STUDY_MANIFEST
+from gaitgram.strategies.kept import Front, RecordError, Repertoire, load_fronts, load_repertoire
+from gaitgram.study.manifest import study_holds
 
 HTML = "report.html"
 
@@ -93,7 +93,7 @@ HTML = "report.html"
 @dataclass(frozen=True)
 class Written:
     """A report as written: every file, in order, and what a terminal shows of it
-    (:func:`gaitgram.study.formats.brief`: a screen at most; the files hold every table)."""
+    (:func:`gaitgram.report.formats.brief`: a screen at most; the files hold every table)."""
 
     files: list[Path]
     brief: str
@@ -351,7 +351,7 @@ def make_report(
     """``gaitgram report``: the report of study or run directories whose runs have all finished
     (each arm's first ``runs``, if given), written to ``out``; what was written. With ``assess``,
     each run's best gait is first measured where its kept assessment is missing or stale
-    (simulation; :mod:`gaitgram.study.assess`). Ctrl-C raises :class:`ReportInterrupted`."""
+    (simulation; :mod:`gaitgram.report.assess`). Ctrl-C raises :class:`ReportInterrupted`."""
     check_out(out, directories)
     try:
         arms, title = load_arms(directories, runs=runs)

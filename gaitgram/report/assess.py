@@ -1,6 +1,6 @@
 """Kept gaits measured beyond their scores, once, into the study directory: ``gaitgram report --assess``.
 
-The report's realism and robustness sections (:mod:`gaitgram.study.realism_robustness`) need simulation:
+The report's realism and robustness sections (:mod:`gaitgram.report.realism_robustness`) need simulation:
 each run's best gait (its last checkpoint's best, which ``best.json`` records) is measured by the
 backend that scored it (``BackendSpec.assess``: on the horse, beside the DLC_Horse walks and
 under each disturbance), which declares what it keeps (``BackendSpec.assessment``). That is slow, so
@@ -27,8 +27,8 @@ from gaitgram.backends.registry import BackendSpec, installed_backend
 from gaitgram.evolution.checkpoint import load_checkpoint
 from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError, best_walk_of_runs, read_manifest
 from gaitgram.fileio import write_atomically
+from gaitgram.report.records import ArmRecord, ReportError
 from gaitgram.runlayout import ASSESSMENT, best_walk_window, run_path
-from gaitgram.study.records import ArmRecord, ReportError
 
 #: Raised when what is measured, or how, changes: every kept assessment is then stale.
 #: 2: the bumps are ten floors, and each trial keeps on how many it was played and held.

@@ -12,9 +12,9 @@ from __future__ import annotations
 import statistics
 from collections.abc import Sequence
 
+from gaitgram.report.records import ArmRecord
+from gaitgram.report.sections import Column, Kind, Section, Table
 from gaitgram.runlayout import USAGE
-from gaitgram.study.model import Column, Kind, Section, Table
-from gaitgram.study.records import ArmRecord
 
 USAGE_TEXT = (
     "What each arm's runs spent in the backend, as each run recorded it beside its checkpoint "

@@ -1,6 +1,6 @@
 """``report.html``: the whole report in one self-contained page.
 
-Every section of the report (:mod:`gaitgram.study.model`) in order, drawn
+Every section of the report (:mod:`gaitgram.report.sections`) in order, drawn
 generically: its text, its tables (sortable: a click on a column header sorts
 by it, again reverses), its rank tests, its notes and its figures, embedded as
 data URIs (SVG where the figure has one, else PNG; the gallery's GIFs). The CSS
@@ -17,9 +17,9 @@ import re
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from gaitgram.study import escape
-from gaitgram.study.formats import left_aligned
-from gaitgram.study.model import (
+from gaitgram.report import escape
+from gaitgram.report.formats import left_aligned
+from gaitgram.report.sections import (
     LEADING,
     Figure,
     Kind,
@@ -223,7 +223,7 @@ _INLINE: Sequence[tuple[re.Pattern[str], str]] = (
 
 
 #: What stands for a character in the prose: a Markdown backslash escape, or a character reference
-#: (:func:`gaitgram.study.escape.markdown` writes both into the names it puts in prose).
+#: (:func:`gaitgram.report.escape.markdown` writes both into the names it puts in prose).
 _LITERAL = re.compile(r"\\([!-/:-@\[-`{-~])|&#([0-9]{1,7});")
 _HELD = re.compile("\x00([0-9]+)\x00")
 

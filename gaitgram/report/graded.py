@@ -14,11 +14,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from gaitgram.study import escape
-from gaitgram.study.model import Column, Kind, Section, Table
-from gaitgram.study.realism_robustness import ASSESS_TEXT, ArmAssessed, Assessed
-from gaitgram.study.records import ArmRecord
-from gaitgram.study.stats import holm, wilson_interval
+from gaitgram.report import escape
+from gaitgram.report.realism_robustness import ASSESS_TEXT, ArmAssessed, Assessed
+from gaitgram.report.records import ArmRecord
+from gaitgram.report.sections import Column, Kind, Section, Table
+from gaitgram.report.stats import holm, wilson_interval
 
 __all__ = ["GOAL", "graded_section"]
 

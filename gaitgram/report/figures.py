@@ -1,4 +1,4 @@
-"""The report's figures, drawn from the report's data (:mod:`gaitgram.study.model`).
+"""The report's figures, drawn from the report's data (:mod:`gaitgram.report.sections`).
 
 One drawer per kind of figure data, registered with :func:`drawer`: convergence
 (the paper's Figures 3, 4 and 6 with confidence bands), Pareto fronts
@@ -17,18 +17,18 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gaitgram.study.escape import printable
-from gaitgram.study.model import Convergence, Fronts, RepertoireMap
-from gaitgram.study.realism_robustness import RealismCurves
+from gaitgram.report.escape import printable
+from gaitgram.report.realism_robustness import RealismCurves
+from gaitgram.report.sections import Convergence, Fronts, RepertoireMap
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
 def draw(data: Any) -> Figure:
-    """The matplotlib figure of ``data`` (a :class:`~gaitgram.study.model.Figure`'s). Its text is
+    """The matplotlib figure of ``data`` (a :class:`~gaitgram.report.sections.Figure`'s). Its text is
     text: a ``$`` in an arm's name is a dollar, not mathematics to parse (or fail to); each drawer
-    shows a name :func:`~gaitgram.study.escape.printable` (an SVG holds no control character)."""
+    shows a name :func:`~gaitgram.report.escape.printable` (an SVG holds no control character)."""
     from matplotlib import rc_context
 
     with rc_context({"text.parse_math": False}):

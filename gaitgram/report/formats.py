@@ -1,4 +1,4 @@
-"""The report's text formats: Markdown, CSV, LaTeX and JSON, drawn from :mod:`gaitgram.study.model`.
+"""The report's text formats: Markdown, CSV, LaTeX and JSON, drawn from :mod:`gaitgram.report.sections`.
 
 Markdown draws every section generically. ``summary.csv``, ``tables.tex`` and
 ``summary.json`` keep the summary's committed layout (the reports in
@@ -15,8 +15,8 @@ from collections.abc import Sequence
 from typing import Any
 
 from gaitgram import jsonio
-from gaitgram.study import escape
-from gaitgram.study.model import (
+from gaitgram.report import escape
+from gaitgram.report.sections import (
     LEADING,
     Column,
     Kind,
