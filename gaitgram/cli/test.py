@@ -17,7 +17,7 @@ from rich.text import Text
 from gaitgram import jsonio
 from gaitgram.analysis import CheckResult
 from gaitgram.cli.common import compiled_or_exit, fail, load_usable
-from gaitgram.cli.options import Defines, Representation, RepresentationSettings, parse_defines
+from gaitgram.cli.options import Defines, Representation, RepresentationSettings, ge_default, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper
 from gaitgram.ge.registry import DEFAULT_REPRESENTATION, Compiled
 from gaitgram.ge.visualise import ascii_tree
@@ -30,6 +30,10 @@ class OutputFormat(StrEnum):
     JSON = "json"
 
 
+#: GE's codon consumption, as a run's is by default.
+_CODONS = CodonMode(ge_default("codons"))
+
+
 def command(
     grammar: Annotated[Path, typer.Argument(help="The grammar to test.", show_default=False)],
     examples: Annotated[int, typer.Option(min=1, help="Derivations per property.")] = 100,
@@ -38,7 +42,7 @@ def command(
         int | None,
         typer.Option(min=1, help="Deepest derivation generated (default 10; another representation's own)."),
     ] = None,
-    codons: Annotated[CodonMode, typer.Option(help="lazy or eager codon consumption.")] = CodonMode.LAZY,
+    codons: Annotated[CodonMode, typer.Option(help="lazy or eager codon consumption.")] = _CODONS,
     properties: Annotated[Path | None, typer.Option(help="A Python file of property_* functions.")] = None,
     only: Annotated[
         list[str] | None, typer.Option("--property", "-p", help="Run only these properties (repeatable).")
