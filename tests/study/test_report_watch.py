@@ -8,7 +8,6 @@ import re
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
@@ -126,13 +125,13 @@ def test_ctrl_c_stops_a_watch_leaving_a_page_that_no_longer_reloads(tmp_path: Pa
         command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=environment
     )
     try:
-        for _ in range(600):  # its first page, written whole (the directory appears with it)
-            if (out / HTML).exists() or watching.poll() is not None:
-                break
-            time.sleep(0.1)
+        assert watching.stderr is not None
+        said = watching.stderr.readline()  # its first page written whole, and said (then it sleeps)
+        assert said.endswith(f"runs finished: wrote {out / HTML}\n"), said
         assert REFRESH.findall((out / HTML).read_text()) == ["1"]
         watching.send_signal(signal.SIGINT)
-        _, stderr = watching.communicate(timeout=120)
+        _, rest = watching.communicate(timeout=120)
+        stderr = said + rest
     finally:
         watching.kill()
     assert watching.returncode == 130, stderr
