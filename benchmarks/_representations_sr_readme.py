@@ -66,7 +66,7 @@ def _settings(settings: Mapping[str, Any]) -> str:
     return ", ".join(f"`{k} = {json.dumps(v)}`" for k, v in settings.items())
 
 
-def _pair_text(test: Mapping[str, Any], alpha: float) -> str:
+def _pair_text(test: Mapping[str, Any], alpha: float, what: str = "ends lower") -> str:
     first, second = NAMES[test["first"]], NAMES[test["second"]]
     numbers = (
         f"U = {test['u']:.1f}, p = {_p(test['p'])}, Holm {_p(test['p_holm'])}, "
@@ -74,7 +74,7 @@ def _pair_text(test: Mapping[str, Any], alpha: float) -> str:
     )
     if test["p_holm"] < alpha:
         lower = first if test["a12_first_lower"] > 0.5 else second
-        return f"{lower} ends lower ({numbers}, {test['magnitude']})"
+        return f"{lower} {what} ({numbers}, {test['magnitude']})"
     return f"no difference found ({numbers}, {test['magnitude']})"
 
 
@@ -187,6 +187,11 @@ def readme(comparison: Mapping[str, Any], found: Sequence[Mapping[str, Any]], al
         "included: two GE genomes that differ only there are two genotypes of one phenotype); a "
         "phenotype is the derived text. This is the issue's definition, not Medvet's own measure "
         "(which is not reproduced here), so it tests the claim's direction, not his numbers. "
+        "CFG-GP's genotype is the derivation tree itself: where each phenotype has one derivation "
+        "(Pagie-1's grammar parenthesises every operation) its redundancy is 0 by construction; "
+        "Keijzer-6's and Vladislavleva-4's grammars write `<e>+<e>` without parentheses (and "
+        "Keijzer-6's lists `x[:, 0]` and the constants four times each), so there several trees can "
+        "give one phenotype. "
         "`runs.jsonl` keeps per "
         "generation the counts it is made of (`genotypes`, `mapped`, `redundant`, `phenotypes`), so "
         "other readings can be computed from the record.\n"
@@ -197,7 +202,7 @@ def readme(comparison: Mapping[str, Any], found: Sequence[Mapping[str, Any]], al
     )
     add("### Statistics and the rules for a verdict\n")
     add(
-        "scipy.stats, through `gaitgram.study.stats`: Kruskal-Wallis across the five representations "
+        "scipy.stats, through `gaitgram.report.stats`: Kruskal-Wallis across the five representations "
         "per problem; two-sided Mann-Whitney U for the claim pairs (SGE vs GE, DSGE vs SGE) on each "
         "problem, Holm's correction over those six tests; Vargha-Delaney A12, the probability that a "
         "run of the first ends lower (better) than a run of the second, ties half; Wilcoxon's "
@@ -212,8 +217,10 @@ def readme(comparison: Mapping[str, Any], found: Sequence[Mapping[str, Any]], al
         "p < 0.05; it is supported if it fails on none (which is the absence of evidence against it, "
         "not proof that DSGE is never worse);\n"
         "- claim 3 holds on a problem where SGE's late redundancy is higher than its early one "
-        "(medians) at Holm p < 0.05; it is supported if it holds on every problem. Whether SGE's early "
-        "redundancy is *low* compared with the other representations' is reported beside it.\n"
+        "(medians) at Holm p < 0.05; it is supported if it holds on every problem. Its comparative "
+        "reading, as Medvet compared GE variants, is reported beside it: SGE's early redundancy "
+        "lower than both GE's and πGE's (Mann-Whitney U, Holm over those six tests, p < 0.05 and "
+        "A12 > 0.5, A12 the probability that an SGE run's early mean is the lower).\n"
     )
 
     add("## Command\n")
@@ -262,6 +269,22 @@ def readme(comparison: Mapping[str, Any], found: Sequence[Mapping[str, Any]], al
                 f"{_g(final['test_median'])} | {final['unscored']} |"
             )
     add("")
+    add(
+        "The final best most runs end on, and how many do (ties by RMSE: two runs count together "
+        "only when their RMSE is equal to the last bit):\n"
+    )
+    add("| problem | representation | RMSE | runs | phenotype |")
+    add("|---|---|---:|---:|---|")
+    for problem, entry in problems.items():
+        for rep, final in entry["final"].items():
+            common = final["most_common"]
+            text = common["phenotype"] or ""
+            shown = f"`{text}`" if len(text) <= 60 else f"`{text[:57]}...` ({len(text):,} characters)"
+            add(
+                f"| {TITLES.get(problem, problem)} | {NAMES[rep]} | {_g(common['fitness'])} | "
+                f"{common['runs']} | {shown} |"
+            )
+    add("")
     for problem, entry in problems.items():
         kw = entry["kruskal_wallis"]
         add(f"- {TITLES.get(problem, problem)}: Kruskal-Wallis H = {_g(kw['h'], 3)}, p = {_p(kw['p'])}")
@@ -297,6 +320,17 @@ def readme(comparison: Mapping[str, Any], found: Sequence[Mapping[str, Any]], al
             )
     add("")
     shown = sorted({0, *range(0, budget["generations"] + 1, max(1, budget["generations"] // 10))})
+    add("SGE's early redundancy against GE's and πGE's (Medvet's comparison):\n")
+    add("| problem | pair | U | p | p (Holm, 6 tests) | A12 (SGE lower) | effect |")
+    add("|---|---|---:|---:|---:|---:|---|")
+    for problem, entry in problems.items():
+        for test in entry.get("early_redundancy_pairs", []):
+            add(
+                f"| {TITLES.get(problem, problem)} | {NAMES[test['first']]} vs {NAMES[test['second']]} | "
+                f"{test['u']:.1f} | {_p(test['p'])} | {_p(test['p_holm'])} | "
+                f"{test['a12_first_lower']:.2f} | {test['magnitude']} |"
+            )
+    add("")
     add("Median redundancy over runs, by generation:\n")
     for problem, entry in problems.items():
         add(f"{TITLES.get(problem, problem)}:\n")
@@ -325,16 +359,62 @@ def _short(claims: Mapping[str, Any], problems: Mapping[str, Any], alpha: float)
     held = [TITLES.get(p, p) for p, ok in one["per_problem"].items() if ok]
     failed = [TITLES.get(p, p) for p, ok in two["per_problem"].items() if not ok]
     rose = [TITLES.get(p, p) for p, ok in three["per_problem"].items() if ok]
+    lower = [TITLES.get(p, p) for p, ok in three.get("lower_early_than_ge_and_pige", {}).items() if ok]
+    reverse = [
+        TITLES.get(problem, problem)
+        for problem, entry in problems.items()
+        for t in entry["claim_pairs"]
+        if (t["first"], t["second"]) == ("sge", "ge") and t["p_holm"] < alpha and t["a12_first_lower"] < 0.5
+    ]
     n = len(problems)
+
+    def listed(names: list[str]) -> str:
+        return f" ({', '.join(names)})" if names else ""
+
     return [
         f"Claim 1 (SGE beats GE) is {_verdict(one['supported'])} by these data: SGE ends lower on "
-        f"{len(held)} of {n} problems{' (' + ', '.join(held) + ')' if held else ''}.",
+        f"{len(held)} of {n} problems{listed(held)}"
+        + (f", GE on {len(reverse)}{listed(reverse)}." if reverse else "."),
         f"Claim 2 (DSGE never worse than SGE) is {_verdict(two['supported'])}: DSGE ends higher on "
-        f"{len(failed)} of {n}{' (' + ', '.join(failed) + ')' if failed else ''}.",
-        f"Claim 3 (SGE's redundancy rises) is {_verdict(three['supported'])}: it rises from early to "
-        f"late on {len(rose)} of {n}{' (' + ', '.join(rose) + ')' if rose else ''}.",
+        f"{len(failed)} of {n}{listed(failed)}.",
+        f"Claim 3 (SGE's redundancy low early, high later) is {_verdict(three['supported'])} as a rise "
+        f"within SGE's runs, on {len(rose)} of {n}{listed(rose)}; read as Medvet compared, SGE is less "
+        f"redundant early than GE and πGE on {len(lower)} of {n}{listed(lower)}.",
         f"(Holm-corrected tests at α = {alpha}; the rules are below.)",
     ]
+
+
+def _gathered(problems: Mapping[str, Any]) -> list[str]:
+    """Where a third of a representation's runs or more end on one final best (a trap), and which
+    representation ends lowest on each problem: what the figures show beside the claims."""
+    lines = ["- **Beside the claims.**"]
+    for problem, entry in problems.items():
+        final = entry["final"]
+        runs = entry["runs"]
+        traps = [
+            f"{final[rep]['most_common']['runs']} of {NAMES[rep]}'s {runs[rep]}"
+            for rep in final
+            if final[rep]["most_common"]["runs"] * 3 >= runs[rep] and final[rep]["most_common"]["runs"] > 1
+        ]
+        by_phenotype: dict[str, list[str]] = {}
+        for rep in final:
+            if final[rep]["most_common"]["runs"] * 3 >= runs[rep] and final[rep]["most_common"]["runs"] > 1:
+                by_phenotype.setdefault(final[rep]["most_common"]["phenotype"] or "", []).append(rep)
+        lowest = min(final, key=lambda rep: final[rep]["median"])
+        text = (
+            f"  {TITLES.get(problem, problem)}: {NAMES[lowest]} has the lowest median final RMSE "
+            f"({_g(final[lowest]['median'])}; Kruskal-Wallis p = {_p(entry['kruskal_wallis']['p'])})."
+        )
+        if traps:
+            where = "; ".join(
+                f"`{phenotype}` ({', '.join(NAMES[r] for r in reps)})"
+                if len(phenotype) <= 60
+                else f"a phenotype of {len(phenotype):,} characters ({', '.join(NAMES[r] for r in reps)})"
+                for phenotype, reps in by_phenotype.items()
+            )
+            text += f" A third of the runs or more end on one final best: {', '.join(traps)}, on {where}."
+        lines.append(text)
+    return lines
 
 
 def _reading(claims: Mapping[str, Any], problems: Mapping[str, Any], alpha: float) -> list[str]:
@@ -379,8 +459,14 @@ def _reading(claims: Mapping[str, Any], problems: Mapping[str, Any], alpha: floa
             f"{_share(red['early_median'])} early to {_share(red['late_median'])} late "
             f"(higher late in {red['late_higher']} of "
             f"{red['runs']} runs, Holm p = {_p(red['p_holm'])}); early it ranks {early_rank} of "
-            f"{len(entry['redundancy'])} from the lowest, late {late_rank} from the highest."
+            f"{len(entry['redundancy'])} from the lowest, late {late_rank} from the highest. Early, "
+            + "; ".join(
+                f"against {NAMES[t['second']]}: {_pair_text(t, alpha, 'is lower')}"
+                for t in entry.get("early_redundancy_pairs", [])
+            )
+            + "."
         )
+    lines.extend(_gathered(problems))
     lines.append(
         "- **Not tested here.** The claims were made on other problems (the SGE papers' own "
         "benchmarks), other budgets (1,000 individuals) and selection (tournaments of 3, 10 % "

@@ -124,6 +124,8 @@ def test_the_statistics_are_recomputed_from_the_runs(record: tuple[Path, list[di
     claim_entries: list[dict[str, Any]] = []
     wilcoxon_p: list[float] = []
     wilcoxon_entries: list[dict[str, Any]] = []
+    early_p: list[float] = []
+    early_entries: list[dict[str, Any]] = []
     for problem in PROBLEMS:
         entry = comparison["problems"][problem]
         final = {
@@ -141,6 +143,8 @@ def test_the_statistics_are_recomputed_from_the_runs(record: tuple[Path, list[di
                 (q1, q3), rel=1e-12
             )
             assert entry["final"][rep]["best"] == min(values)
+            common = entry["final"][rep]["most_common"]
+            assert common["runs"] == values.count(common["fitness"]) == max(map(values.count, values))
         h, p = stats.kruskal(*final.values())
         assert (entry["kruskal_wallis"]["h"], entry["kruskal_wallis"]["p"]) == pytest.approx((h, p))
         for test, (first, second) in zip(entry["claim_pairs"], [("sge", "ge"), ("dsge", "sge")], strict=True):
@@ -150,6 +154,7 @@ def test_the_statistics_are_recomputed_from_the_runs(record: tuple[Path, list[di
             assert test["a12_first_lower"] == pytest.approx(_a12(final[first], final[second]))
             claim_p.append(p)
             claim_entries.append(test)
+        early_of: dict[str, list[float]] = {}
         for rep in REPRESENTATIONS:
             mine = sorted(
                 (r for r in runs if (r["problem"], r["representation"]) == (problem, rep)),
@@ -165,10 +170,24 @@ def test_the_statistics_are_recomputed_from_the_runs(record: tuple[Path, list[di
             assert red["p"] == pytest.approx(p)
             wilcoxon_p.append(p)
             wilcoxon_entries.append(red)
+            early_of[rep] = early
+        for test, second in zip(entry["early_redundancy_pairs"], ["ge", "pige"], strict=True):
+            assert (test["first"], test["second"]) == ("sge", second)
+            x, y = early_of["sge"], early_of[second]
+            u, p = (
+                (len(x) * len(y) / 2, 1.0)
+                if len(set(x + y)) == 1
+                else stats.mannwhitneyu(x, y, alternative="two-sided")
+            )
+            assert (test["u"], test["p"], test["a12_first_lower"]) == pytest.approx((u, p, _a12(x, y)))
+            early_p.append(p)
+            early_entries.append(test)
     for test, adjusted in zip(claim_entries, _holm(claim_p), strict=True):
         assert test["p_holm"] == pytest.approx(adjusted)
     for red, adjusted in zip(wilcoxon_entries, _holm(wilcoxon_p), strict=True):
         assert red["p_holm"] == pytest.approx(adjusted)
+    for test, adjusted in zip(early_entries, _holm(early_p), strict=True):
+        assert test["p_holm"] == pytest.approx(adjusted)
 
 
 def test_the_readme_shows_the_figures_and_a_verdict_on_each_claim(
