@@ -122,7 +122,14 @@ def test_ctrl_c_stops_a_watch_leaving_a_page_that_no_longer_reloads(tmp_path: Pa
     ]
     environment = {**os.environ, "NO_COLOR": "1", "COLUMNS": "400"}
     watching = subprocess.Popen(
-        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=environment
+        command,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=environment,
+        # Ctrl-C as a terminal delivers it: a suite started in the background (``pytest &``) ignores
+        # SIGINT, which its children inherit, and Python then never raises KeyboardInterrupt.
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     try:
         assert watching.stderr is not None
