@@ -461,7 +461,7 @@ class PiGE:
 
     def decode(self, text: str) -> Codons:
         """Codons as GE writes them: ``12,7,301`` (commas and/or spaces; a JSON list works)."""
-        return parse_flat(text)
+        return parse_flat(text, "codon")
 
     def to_json(self, genome: Codons) -> Any:
         return list(genome)

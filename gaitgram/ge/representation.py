@@ -467,20 +467,23 @@ def _tokens(text: str) -> Iterator[tuple[str, str, int]]:
         position = match.end()
 
 
-def _value(text: str, token: str, offset: int, example: str) -> int:
+def _value(text: str, token: str, offset: int, example: str, noun: str = "value") -> int:
     if not token.isdigit() or not token.isascii():
         raise GenomeError(
-            f"{text_position(text, offset)}: {token!r} is not a value; values are non-negative integers, "
-            f"e.g. {example}"
+            f"{text_position(text, offset)}: {token!r} is not a {noun}; {noun}s are non-negative "
+            f"integers, e.g. {example}"
         )
     return int(token)
 
 
-def parse_flat(text: str) -> tuple[int, ...]:
-    """Values separated by commas and/or whitespace, optionally in [brackets] (JSON works)."""
-    values = [_value(text, token, at, "12,7,301") for kind, token, at in _tokens(text) if kind == "word"]
+def parse_flat(text: str, noun: str = "value") -> tuple[int, ...]:
+    """Values separated by commas and/or whitespace, optionally in [brackets] (JSON works);
+    ``noun`` is what messages call them (a πGE genome's are codons)."""
+    values = [
+        _value(text, token, at, "12,7,301", noun) for kind, token, at in _tokens(text) if kind == "word"
+    ]
     if not values:
-        raise GenomeError("the genome is empty; write its values separated by commas, e.g. 12,7,301")
+        raise GenomeError(f"the genome is empty; write its {noun}s separated by commas, e.g. 12,7,301")
     return tuple(values)
 
 

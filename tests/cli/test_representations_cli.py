@@ -55,7 +55,7 @@ def test_map_reads_each_representations_genome_syntax(
 @pytest.mark.parametrize(
     ("representation", "genome", "message"),
     [
-        ("pige", "0,0,x", "--genome:1:5: 'x' is not a value; values are non-negative integers"),
+        ("pige", "0,0,x", "--genome:1:5: 'x' is not a codon; codons are non-negative integers"),
         (
             "dsge",
             "[[0], [1]]",

@@ -294,7 +294,7 @@ def test_cfggp_text_is_the_tree() -> None:
 
 
 BAD_TEXT = [
-    ("pige", "1,2,x", "1:5: 'x' is not a value"),
+    ("pige", "1,2,x", "1:5: 'x' is not a codon"),
     ("pige", "", "the genome is empty"),
     ("dsge", "[[0], [0]]", "has 2 gene(s); this grammar needs 3"),
     ("dsge", "[[0], [7], []]", "gene 1 (<o>), value 0: 7 is not a choice of the rule; it has 2"),
