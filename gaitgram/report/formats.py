@@ -24,6 +24,7 @@ from gaitgram.report.sections import (
     StudyReport,
     Table,
     cell_text,
+    names_representations,
     p_phrase,
     p_text,
     share_text,
@@ -133,13 +134,17 @@ def _csv(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
 
 
 def csv_text(report: StudyReport) -> str:
-    """``summary.csv``: the summary, raw numbers, one row per arm."""
+    """``summary.csv``: the summary, raw numbers, one row per arm; each arm's representation after
+    its strategy when not every arm is GE (a GE-only report's file is as it always was)."""
+    named = names_representations(report.summaries)
+    header = _SUMMARY_CSV[:2] + ("representation",) + _SUMMARY_CSV[2:] if named else _SUMMARY_CSV
     return _csv(
-        _SUMMARY_CSV,
+        header,
         [
             (
                 s.name,
                 s.strategy,
+                *((s.representation,) if named else ()),
                 s.runs,
                 s.mean_best,
                 s.sd_best,
@@ -204,8 +209,10 @@ def latex(report: StudyReport) -> str:
     """Booktabs tables, ready for ``\\usepackage{booktabs}``: the summary and the final best's
     pairwise tests, then every table of the further sections."""
     g = value_text
+    named = names_representations(report.summaries)  # a representation column when not all are GE
     summary = [
-        f"{escape.latex(s.name)} & {s.runs} & {g(s.mean_best)} & {g(s.sd_best)} & {g(s.mean_average)} & "
+        f"{escape.latex(s.name)} & {f'{escape.latex(s.representation)} & ' if named else ''}{s.runs} & "
+        f"{g(s.mean_best)} & {g(s.sd_best)} & {g(s.mean_average)} & "
         f"{g(s.sd_average)} & {escape.latex(cell_text(Kind.SHARE_INTERVAL, s.walk_rate_cell))} & "
         f"{escape.latex(share_text(s.walk_held_rate))}"
         for s in report.summaries
@@ -218,8 +225,9 @@ def latex(report: StudyReport) -> str:
         *_tabular(
             "gaitgram study report: final best and average over runs (mean and SD); walk rate "
             "with Wilson's interval.",
-            "lrrrrrrr",
-            "Arm & Runs & Avg.\\ best & SD & Avg.\\ avg. & SD & Walk rate [95\\,\\% CI] & Walk held",
+            "llrrrrrrr" if named else "lrrrrrrr",
+            f"Arm & {'Representation & ' * named}Runs & Avg.\\ best & SD & Avg.\\ avg. & SD & "
+            "Walk rate [95\\,\\% CI] & Walk held",
             summary,
         ),
         *(

@@ -4,6 +4,7 @@ committed reports, byte for byte, are tests/study/test_committed_results.py's)."
 
 from __future__ import annotations
 
+import csv
 import json
 import subprocess
 import sys
@@ -75,8 +76,21 @@ def test_a_report_names_each_arms_representation(tmp_path: Path) -> None:
     html = (tmp_path / "rep" / "report.html").read_text()
     assert ">representation</th>" in html
     assert "<td>trees</td><td>cfg-gp</td>" in html
+    rows = list(csv.DictReader((tmp_path / "rep" / "summary.csv").open(newline="")))
+    assert [(r["arm"], r["strategy"], r["representation"]) for r in rows] == [
+        ("plain", "ge", "ge"),
+        ("structured", "ge", "sge"),
+        ("trees", "ge", "cfg-gp"),
+    ]
+    assert list(rows[0])[:4] == ["arm", "strategy", "representation", "runs"]
+    tex = (tmp_path / "rep" / "tables.tex").read_text()
+    assert "\\begin{tabular}{llrrrrrrr}" in tex
+    assert "Arm & Representation & Runs &" in tex
+    assert "structured & sge & 2 &" in tex and "trees & cfg-gp & 2 &" in tex
 
     ge_only = runner.invoke(app, ["report", str(tmp_path / "out/arms/plain"), "-o", str(tmp_path / "ge")])
     assert ge_only.exit_code == 0, ge_only.stderr
     assert "representation" not in (tmp_path / "ge" / "summary.md").read_text()
-    assert "representation" not in (tmp_path / "ge" / "summary.json").read_text()
+    for name in ("summary.md", "summary.json", "summary.csv"):
+        assert "representation" not in (tmp_path / "ge" / name).read_text()
+    assert "Representation" not in (tmp_path / "ge" / "tables.tex").read_text()
