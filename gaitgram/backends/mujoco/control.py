@@ -180,6 +180,11 @@ class Oscillators:
         #: Per hoof, seconds since a tick last saw it down (0 while it is down).
         self.airborne = np.zeros((gaits, limbs))
         self._last_step = 0
+        #: Each limb's phase offset (its actuators'; 0 for a limb that drives none), as the clock has it.
+        self.limb_offsets = np.zeros(limbs)
+        for limb, offset in zip(actuation.limb_index, actuation.offsets, strict=True):
+            if limb >= 0:
+                self.limb_offsets[limb] = offset
 
     def tick(
         self,
@@ -200,21 +205,12 @@ class Oscillators:
         any_landed = bool(landed.any())
         if any_landed:
             # The limb's unwrapped clock at this step, as :meth:`Actuation.clock` computes it.
-            limb_offsets = self._limb_offsets()
-            clock = step * self.actuation.timestep * frequencies[:, None] - limb_offsets[None, :]
+            clock = step * self.actuation.timestep * frequencies[:, None] - self.limb_offsets[None, :]
             shift = self.shift[ids]
             shift[landed] = -clock[landed]
             self.shift[ids] = shift
         self.airborne[ids] = np.where(down, 0.0, airborne)
         return landed.any(axis=1) if any_landed else None
-
-    def _limb_offsets(self) -> NDArray[np.float64]:
-        act = self.actuation
-        offsets = np.zeros(len(act.limbs))
-        for a, limb in enumerate(act.limb_index):
-            if limb >= 0:
-                offsets[limb] = act.offsets[a]
-        return offsets
 
     def member_phases(
         self, gaits: NDArray[np.intp], limbs: NDArray[np.intp], clock: NDArray[np.float64]
@@ -240,24 +236,28 @@ class _Samples:
     variable: str
     samples: NDArray[np.float64]
     deltas: NDArray[np.float64]
+    starts: NDArray[np.intp]  # per member: its first sample's flat index, [members, 1, 1]
 
     @classmethod
     def of(cls, variable: str, samples: NDArray[np.float64]) -> _Samples:
         deltas = np.zeros_like(samples)
         np.subtract(samples[:, 1:], samples[:, :-1], out=deltas[:, :-1])
-        return cls(variable, samples, deltas)
+        starts = (np.arange(len(samples)) * samples.shape[1])[:, None, None]
+        return cls(variable, samples, deltas, starts)
 
     def take(self, members: NDArray[np.intp]) -> _Samples:
-        return _Samples(self.variable, self.samples[members], self.deltas[members])
+        return _Samples(
+            self.variable, self.samples[members], self.deltas[members], self.starts[: len(members)]
+        )
 
     def at(self, phases: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Each member's samples read at ``phases`` [members, steps, width] in [0, 1), by linear
+        """Each member's samples read at ``phases`` [members, steps, width] in [0, 1], by linear
         interpolation: ``v + (next - v) * fraction`` of the two samples around each phase."""
         n = self.samples.shape[1] - 1
         position = phases * n
-        low = np.minimum(np.floor(position).astype(np.intp), n - 1)
+        low = np.minimum(position.astype(np.intp), n - 1)  # the floor: positions are not negative
         fraction = position - low
-        low += (np.arange(len(self.samples)) * (n + 1))[:, None, None]  # flat indices
+        low += self.starts  # flat indices
         v_low = self.samples.take(low)
         return v_low + self.deltas.take(low) * fraction
 
@@ -295,23 +295,24 @@ class _Placed:
 class _Block:
     """What a closed loop computes ahead for steps ``first..last-1`` of the gaits it is asked for,
     since no sensor changes it: the open-loop curves' values, the ramp, the unwrapped clock, and
-    the slots of the phase variables (those of an oscillator's phase with the shifts in force,
-    computed again from a landing on for the gaits that landed). A tick reads its steps' share:
-    each element is the value a tick's own computation would give (the operations are element by
-    element)."""
+    the slots of ``t``. A tick reads its steps' share: each element is the value a tick's own
+    computation would give (the operations are element by element). The slots of an oscillator's
+    phase, which a landing moves, are read per tick from the clock kept here."""
 
     def __init__(self, first: int, last: int) -> None:
         self.first, self.last = first, last
         self.values: NDArray[np.float64] = np.empty(0)
         self.ramp: NDArray[np.float64] = np.empty(0)
         self.clock: NDArray[np.float64] = np.empty(0)
-        #: Per placed group, per slot: its values [members, steps, width].
-        self.slots: list[list[NDArray[np.float64]]] = []
+        #: Per placed group, per slot: the values of a slot of ``t`` [members, steps, width], None
+        #: for a slot of an oscillator's phase.
+        self.slots: list[list[NDArray[np.float64] | None]] = []
+        #: Per placed group: its members' clock [members, steps, width] if a slot reads the phase.
+        self.clocks: list[NDArray[np.float64] | None] = []
 
 
 #: Steps a closed loop computes ahead (:class:`_Block`): a chunk's worth of ticks.
 BLOCK_STEPS = 125
-_ALL = slice(None)
 
 
 class ClosedLoop:
@@ -322,9 +323,10 @@ class ClosedLoop:
     Every ``tick`` steps the held sensors are read from the last recorded step.
 
     Loops of one skeleton run together whatever their curve. What the held sensors do not change
-    (the open-loop curves, the clock, the slots) is computed for a block of steps ahead, and the
-    index arrays that place each group among the gaits asked for once per set of gaits: per tick
-    remain the sensors, the oscillators and one skeleton run per group."""
+    (the open-loop curves, the clock, the slots of ``t``) is computed for a block of steps ahead,
+    and the index arrays that place each group among the gaits asked for once per set of gaits:
+    per tick remain the sensors, the oscillators, the slots of their phase (a landing moves it)
+    and one skeleton run per group."""
 
     def __init__(
         self,
@@ -442,39 +444,11 @@ class ClosedLoop:
             block.clock = self.actuation.clock(block.first, block.last, frequencies)
         for placed in self._placed:
             clock = _gather(block.clock, placed) if placed.slots else None
-            block.slots.append([slot.at(self._phases(slot.variable, placed, clock)) for slot in placed.slots])
+            block.slots.append(
+                [slot.at(np.mod(clock, 1.0)) if slot.variable == "t" else None for slot in placed.slots]  # type: ignore[arg-type]
+            )
+            block.clocks.append(clock if any(slot.variable != "t" for slot in placed.slots) else None)
         return block
-
-    def _phases(
-        self,
-        variable: str,
-        placed: _Placed,
-        clock: NDArray[np.float64] | None,
-        members: slice | NDArray[np.intp] = _ALL,
-    ) -> NDArray[np.float64]:
-        """The phase variable ``variable`` of a placed group's ``members`` [members, steps, width]
-        from their unwrapped clock: ``t`` the clock's phase, ``phase`` their limb's oscillator."""
-        assert clock is not None
-        if variable == "t":
-            return np.mod(clock, 1.0)
-        assert self.oscillators is not None
-        return self.oscillators.member_phases(placed.gaits[members], placed.limbs[members], clock)
-
-    def _landed(self, block: _Block, first: int, landed: NDArray[np.bool_]) -> None:
-        """The oscillator's slots of the gaits that ``landed`` (positions in the ids asked for) at
-        step ``first``, computed again for the rest of the block with their new shifts."""
-        rest = slice(first - block.first, None)
-        for placed, slots in zip(self._placed, block.slots, strict=True):
-            if all(slot.variable != "phase" for slot in placed.slots):
-                continue
-            members = np.flatnonzero(landed[placed.rows[:, 0]])
-            if not len(members):
-                continue
-            clock = block.clock[placed.rows[members], rest, placed.actuators[members]].transpose(0, 2, 1)
-            for slot, values in zip(placed.slots, slots, strict=True):
-                if slot.variable == "phase":
-                    phases = self._phases("phase", placed, clock, members)
-                    values[members, rest] = slot.take(members).at(phases)
 
     def controls(
         self,
@@ -489,25 +463,27 @@ class ClosedLoop:
         step before ``first``; and the gaits (positions in ``ids``) whose controls are not finite."""
         if self._ids is None or not np.array_equal(ids, self._ids):
             self._place(ids)
-        landed = None
         if self.oscillators is not None and first % self.tick == 0:  # a tick's first part (a chunk's
             # end may cut a tick in two)
-            landed = self.oscillators.tick(ids, first, sensordata, self._ids_frequencies)
+            self.oscillators.tick(ids, first, sensordata, self._ids_frequencies)
         block = self._block
         if block is None or not block.first <= first < last <= block.last:
             block = self._block = self._ahead(ids, first)
-        elif landed is not None:
-            self._landed(block, first, landed)
         steps = slice(first - block.first, last - block.first)
         values = block.values[:, steps].copy()
         readings = self.sensing.read(state, sensordata) if self.sensing is not None else {}
         failed: dict[int, int] = {}  # per gait (position in ids): the first curve not finite
-        for placed, slots in zip(self._placed, block.slots, strict=True):
+        for placed, slots, clock in zip(self._placed, block.slots, block.clocks, strict=True):
             group = placed.group
             held = {name: _held(readings[name], placed) for name in group.sensors}
-            result = run_skeleton(
-                group.skeleton, placed.constants, [values_t[:, steps] for values_t in slots], held
-            )
+            if clock is not None:  # the oscillators' phases as this tick's landings left them
+                assert self.oscillators is not None
+                phases = self.oscillators.member_phases(placed.gaits, placed.limbs, clock[:, steps])
+            slot_values = [
+                values_t[:, steps] if values_t is not None else slot.at(phases)
+                for slot, values_t in zip(placed.slots, slots, strict=True)
+            ]
+            result = run_skeleton(group.skeleton, placed.constants, slot_values, held)
             shape = (len(placed.members), last - first, placed.actuators.shape[1])
             if result.shape != shape:  # a skeleton of held sensors alone: one value per tick
                 result = np.broadcast_to(result, shape)
