@@ -20,6 +20,10 @@ reference). The fast loops lean on CPython specifics for speed, each noted where
 it is used: the stack holds ``int`` rule indices and ``str`` terminals, codons
 come from a ``for`` loop over the genome (a pass per wrap), and a rule that
 must not be expanded has a choice count of 0, so that the modulo raises.
+A joint rule's items go between two negative ints, markers that the loops meet
+where they meet the bottom of the stack (no test on the common path) and record
+with the output's length, so that a joint's phenotype is one slice of the output,
+joined (:meth:`Mapper.joints_from_marks`), not a scan of every piece.
 ``python -m benchmarks map`` measures both paths.
 """
 
@@ -32,6 +36,7 @@ from operator import length_hint
 from typing import Any, NamedTuple
 
 from gaitgram.analysis.cfg import Cfg, Item, RuleKind, build_cfg
+from gaitgram.analysis.facts import Occurrences, min_depths
 from gaitgram.ge.derivation import Derivation, InvalidReason, Node
 from gaitgram.language.model import FREQUENCY, Grammar
 
@@ -100,32 +105,27 @@ class Mapped(NamedTuple):
         return self.used_codons
 
 
-class _Mark(str):
-    """An empty terminal marking where a joint rule's subtree opens or closes.
-
-    It travels through the fast loops as a terminal (so they need no extra
-    branch) and lands in the output list, where it joins as ``""``; the joint
-    phenotypes are cut out between marks afterwards, only for grammars with joints.
-    """
-
-    rule: int
-    opening: bool
-
-    def __new__(cls, rule: int, opening: bool) -> _Mark:
-        mark = super().__new__(cls, "")
-        mark.rule = rule
-        mark.opening = opening
-        return mark
-
-
 #: Bottom-of-stack sentinel in the fast loops: an int, so that the terminal loop stops at it.
 _DONE = -1
-#: Level-close sentinel in the depth-tracking loop.
+#: Level-close sentinel in the depth-tracking loops.
 _UP = -2
+#: Joint ``k`` (of :attr:`Mapper.joint_list`) opens with the marker ``_OPEN - 2k`` and closes with
+#: ``_OPEN - 2k - 1``: negative ints, met by the loops where they meet ``_DONE``.
+_OPEN = -3
+
+
+def joint_op(joint: int, items: tuple[Item, ...]) -> _Op:
+    """A choice of joint ``joint``'s rule as the fast loops apply it: its items between markers."""
+    return "", None, (_OPEN - 2 * joint - 1, *reversed(items), _OPEN - 2 * joint)
+
+
 #: How many copies of the genome the depth-limited loop lays out before extending on demand.
 _PREFETCH_PASSES = 4
 
 _Op = tuple[str, int | None, tuple[Any, ...]]  # (leading terminals, first rule, the rest reversed)
+#: A fast loop's result: output pieces, codons used, why invalid (None: valid), joint markers met
+#: (each followed by the output's length then).
+_Run = tuple[list[str], int, "InvalidReason | None", list[int]]
 
 
 def compile_mapper(
@@ -227,6 +227,20 @@ class Mapper:
         self.joint_rules: dict[int, tuple[str, ...]] = {r: tuple(names) for r, names in by_rule.items()}
         named = {name for names in by_rule.values() for name in names}
         self._joint_order: tuple[str, ...] = tuple(j for j in (joints or {}) if j in named)
+        #: The joint rules, numbered as their markers number them.
+        self.joint_list: tuple[int, ...] = tuple(self.joint_rules)
+        #: When no derivation holds a joint rule twice: each joint name, in order, with its rule's
+        #: opening and closing markers (each met once at most: the fast cut); else empty.
+        self.joint_markers: tuple[tuple[str, int, int], ...] = ()
+        if self.joint_list:
+            productive = tuple(d is not None for d in min_depths(cfg)[0])
+            occurrences = Occurrences(cfg, productive)
+            if all(occurrences.bounds(r)[1] <= 1 for r in self.joint_list):
+                number = {name: self.joint_list.index(r) for r, names in by_rule.items() for name in names}
+                self.joint_markers = tuple(
+                    (name, _OPEN - 2 * number[name], _OPEN - 2 * number[name] - 1)
+                    for name in self._joint_order
+                )
 
         self._ops: tuple[tuple[_Op, ...], ...] = tuple(
             tuple(self._op(r, choice) for choice in choices) for r, choices in enumerate(self.productions)
@@ -247,7 +261,7 @@ class Mapper:
         """A choice as the fast loops apply it: emit the leading terminals, continue with
         the first rule directly (saving a push and a pop), push the rest reversed."""
         if rule in self.joint_rules:
-            return "", None, (_Mark(rule, False), *reversed(items), _Mark(rule, True))
+            return joint_op(self.joint_list.index(rule), items)
         lead = ""
         rest = list(items)
         if rest and isinstance(rest[0], str):
@@ -276,31 +290,32 @@ class Mapper:
 
     def map_many(self, genomes: Iterable[Sequence[int]]) -> list[Mapped]:
         """:meth:`map_fast` over many genomes (the per-genome overhead hoisted out of the loop)."""
-        run, cut = self._run, (self._cut_joints if self.joint_rules else None)
+        run, cut = self._run, self.joints_from_marks
         new = tuple.__new__
         results: list[Mapped] = []
         append = results.append
         for genome in genomes:
             codons = genome if genome.__class__ is list else _as_list(genome)
-            out, used, reason = run(codons)
+            out, used, reason, marks = run(codons)
             n = len(codons)
             wraps = (used - 1) // n if used and n else 0
             if reason is None:
-                append(new(Mapped, ("".join(out), used, wraps, cut(out) if cut else {}, None)))
+                append(new(Mapped, ("".join(out), used, wraps, cut(out, marks) if marks else {}, None)))
             else:
                 append(new(Mapped, (None, used, wraps, {}, reason)))
         return results
 
     def phenotype(self, genome: Sequence[int]) -> str | None:
         """Just the phenotype (None if invalid)."""
-        out, _, reason = self._run(_as_list(genome))
+        out, _, reason, _ = self._run(_as_list(genome))
         return None if reason is not None else "".join(out)
 
-    def _run_eager(self, codons: Sequence[int]) -> tuple[list[str], int, InvalidReason | None]:
+    def _run_eager(self, codons: Sequence[int]) -> _Run:
         ks, ops, stops = self._k, self._ops, self.stops
         n = len(codons)
         out: list[str] = []
         append = out.append
+        marks: list[int] = []
         stack: list[Any] = [_DONE]
         pop, extend = stack.pop, stack.extend
         item = self.start
@@ -320,20 +335,26 @@ class Mapper:
                         item = head
                         continue
                     item = pop()
-                    while type(item) is not int:  # terminals (and joint marks)
-                        append(item)
+                    while True:
+                        while type(item) is not int:  # terminals
+                            append(item)
+                            item = pop()
+                        if item >= 0:
+                            break
+                        if item == _DONE:
+                            return out, (passes + 1) * n - length_hint(codon_iter), None, marks
+                        marks += item, len(out)  # a joint's marker
                         item = pop()
-                    if item < 0:
-                        return out, (passes + 1) * n - length_hint(codon_iter), None
             except ZeroDivisionError:
-                return out, (passes + 1) * n - length_hint(codon_iter) - 1, stops[item]
-        return out, self._passes * n, stops.get(item, InvalidReason.CODONS)
+                return out, (passes + 1) * n - length_hint(codon_iter) - 1, stops[item], marks
+        return out, self._passes * n, stops.get(item, InvalidReason.CODONS), marks
 
-    def _run_lazy(self, codons: Sequence[int]) -> tuple[list[str], int, InvalidReason | None]:
+    def _run_lazy(self, codons: Sequence[int]) -> _Run:
         ks, ops, unit_ops, stops = self._k, self._ops, self._unit_ops, self.stops
         n = len(codons)
         out: list[str] = []
         append = out.append
+        marks: list[int] = []
         stack: list[Any] = [_DONE]
         pop, extend = stack.pop, stack.extend
         item = self.start
@@ -349,11 +370,16 @@ class Mapper:
                 item = head
                 continue
             item = pop()
-            while type(item) is not int:
-                append(item)
+            while True:
+                while type(item) is not int:
+                    append(item)
+                    item = pop()
+                if item >= 0:
+                    break
+                if item == _DONE:
+                    return out, 0, None, marks
+                marks += item, len(out)
                 item = pop()
-            if item < 0:
-                return out, 0, None
         for passes in range(self._passes):
             codon_iter = iter(codons)
             try:
@@ -368,19 +394,24 @@ class Mapper:
                             item = head
                         else:
                             item = pop()
-                            while type(item) is not int:
-                                append(item)
+                            while True:
+                                while type(item) is not int:
+                                    append(item)
+                                    item = pop()
+                                if item >= 0:
+                                    break
+                                if item == _DONE:
+                                    return out, (passes + 1) * n - length_hint(codon_iter), None, marks
+                                marks += item, len(out)
                                 item = pop()
-                            if item < 0:
-                                return out, (passes + 1) * n - length_hint(codon_iter), None
                         if ks[item] != 1:
                             break
                         lead, head, rest = unit_ops[item]  # type: ignore[misc]
             except ZeroDivisionError:
-                return out, (passes + 1) * n - length_hint(codon_iter) - 1, stops[item]
-        return out, self._passes * n, stops.get(item, InvalidReason.CODONS)
+                return out, (passes + 1) * n - length_hint(codon_iter) - 1, stops[item], marks
+        return out, self._passes * n, stops.get(item, InvalidReason.CODONS), marks
 
-    def _run_depth(self, codons: Sequence[int]) -> tuple[list[str], int, InvalidReason | None]:
+    def _run_depth(self, codons: Sequence[int]) -> _Run:
         """Both modes with a depth limit: a level-close sentinel under each expansion's children."""
         ks, ops, reads, stops = self._k, self._ops, self.reads, self.stops
         max_depth = self.options.max_depth
@@ -389,6 +420,7 @@ class Mapper:
         g = codons * self._prefetch if codons.__class__ is list else list(codons) * self._prefetch
         out: list[str] = []
         append = out.append
+        marks: list[int] = []
         stack: list[Any] = [_DONE]
         pop, push, extend = stack.pop, stack.append, stack.extend
         used = 0
@@ -398,7 +430,7 @@ class Mapper:
             try:
                 while True:
                     if depth >= max_depth:
-                        return out, used, InvalidReason.DEPTH
+                        return out, used, InvalidReason.DEPTH, marks
                     if reads[item]:
                         # IndexError when the codons laid out so far run out, ZeroDivisionError
                         # at a rule in ``stops``: both before any state changes, so a retry is exact.
@@ -422,39 +454,48 @@ class Mapper:
                             item = pop()
                         if item >= 0:
                             break
-                        if item == _DONE:
-                            return out, used, None
-                        depth -= 1
+                        if item == _UP:
+                            depth -= 1
+                        elif item == _DONE:
+                            return out, used, None, marks
+                        else:  # a joint's marker
+                            marks += item, len(out)
                         item = pop()
             except IndexError:
                 if ks[item] == 0:
-                    return out, used, stops[item]
+                    return out, used, stops[item], marks
                 if len(g) >= limit:
-                    return out, used, InvalidReason.CODONS
+                    return out, used, InvalidReason.CODONS, marks
                 g.extend(codons)
             except ZeroDivisionError:
-                return out, used, stops[item]
+                return out, used, stops[item], marks
 
-    def _cut_joints(self, out: list[str]) -> dict[str, str]:
-        """Each joint's phenotype: the text between its rule's first opening mark and the
-        matching close (nested occurrences of the same rule are inside it)."""
+    def joints_from_marks(self, out: list[str], marks: list[int]) -> dict[str, str]:
+        """Each joint's phenotype, from the markers a fast loop met (each followed by the
+        output's length then): the text between its rule's first opening and the matching close
+        (nested occurrences of the same rule are inside it)."""
+        if self.joint_markers:  # each marker met once at most: where each one is, in one pass in C
+            pairs = iter(marks)
+            where = dict(zip(pairs, pairs, strict=True))
+            return {
+                name: "".join(out[where[o] : where[c]]) for name, o, c in self.joint_markers if o in where
+            }
         opened: dict[int, int] = {}
         nesting: dict[int, int] = {}
         texts: dict[int, str] = {}
-        for i, piece in enumerate(out):
-            if piece.__class__ is not _Mark:
+        for j in range(0, len(marks), 2):
+            code = _OPEN - marks[j]
+            joint, closing = code >> 1, code & 1
+            if joint in texts:
                 continue
-            rule = piece.rule  # type: ignore[attr-defined]
-            if rule in texts:
-                continue
-            if piece.opening:  # type: ignore[attr-defined]
-                opened.setdefault(rule, i)
-                nesting[rule] = nesting.get(rule, 0) + 1
+            if not closing:
+                opened.setdefault(joint, marks[j + 1])
+                nesting[joint] = nesting.get(joint, 0) + 1
             else:
-                nesting[rule] -= 1
-                if nesting[rule] == 0:
-                    texts[rule] = "".join(out[opened[rule] + 1 : i])
-        return self._name_joints(texts)
+                nesting[joint] -= 1
+                if not nesting[joint]:
+                    texts[joint] = "".join(out[opened[joint] : marks[j + 1]])
+        return self._name_joints({self.joint_list[k]: text for k, text in texts.items()})
 
     def _name_joints(self, texts: dict[int, str]) -> dict[str, str]:
         by_joint = {name: texts[r] for r, names in self.joint_rules.items() if r in texts for name in names}

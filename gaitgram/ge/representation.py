@@ -27,11 +27,11 @@ import numpy as np
 
 from gaitgram import __version__
 from gaitgram.analysis.cfg import Cfg, Item
-from gaitgram.analysis.facts import GrammarFacts, min_depths, occurrence_bounds, reachable_from
+from gaitgram.analysis.facts import GrammarFacts, min_depths, reachable_from
 from gaitgram.ge.derivation import Derivation, InvalidReason
 from gaitgram.ge.export import grammar_tables_json
 from gaitgram.ge.initialisation import Method, _pick
-from gaitgram.ge.mapper import CodonMode, Mapper, MapperError, compile_mapper
+from gaitgram.ge.mapper import CodonMode, Mapper, MapperError, compile_mapper, joint_op
 from gaitgram.ge.registry import GenomeError
 from gaitgram.language.model import Grammar
 
@@ -109,11 +109,8 @@ class GrammarTables:
     ops: tuple[tuple[Any, ...], ...]
     #: Per rule and choice, the rules it uses, in order.
     children: tuple[tuple[tuple[int, ...], ...], ...]
-    #: The joint rules, numbered as their markers number them.
+    #: The joint rules, numbered as their markers number them (the GE mapper's ``joint_list``).
     joint_rules: tuple[int, ...]
-    #: When no derivation holds a joint rule twice: each joint name, in the grammar's order, with
-    #: its rule's opening and closing markers (the fast cut); else empty.
-    joint_markers: tuple[tuple[str, int, int], ...]
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -127,33 +124,8 @@ class GrammarTables:
 
     def joints_of(self, out: list[str], marks: list[int]) -> dict[str, str]:
         """Each joint's phenotype, from the markers :func:`decode_genes` and :func:`decode_sequence`
-        record: the text between its rule's first opening and the matching close (nested
-        occurrences of the same rule are inside it)."""
-        if self.joint_markers:  # each marker met once at most: where each one is, in one pass in C
-            where = dict(zip(marks[::2], marks[1::2], strict=True))
-            return {
-                name: "".join(out[where[o] : where[c]]) for name, o, c in self.joint_markers if o in where
-            }
-        opened: dict[int, int] = {}
-        nesting: dict[int, int] = {}
-        texts: dict[int, str] = {}
-        for j in range(0, len(marks), 2):
-            code = _OPEN - marks[j]
-            joint, closing = code >> 1, code & 1
-            if joint in texts:
-                continue
-            if not closing:
-                opened.setdefault(joint, marks[j + 1])
-                nesting[joint] = nesting.get(joint, 0) + 1
-            else:
-                nesting[joint] -= 1
-                if not nesting[joint]:
-                    texts[joint] = "".join(out[opened[joint] : marks[j + 1]])
-        return self.base._name_joints({self.joint_rules[k]: text for k, text in texts.items()})
-
-
-#: Joint ``k``'s subtree opens with the marker ``_OPEN - 2k`` and closes with ``_OPEN - 2k - 1``.
-_OPEN = -3
+        record, as the GE mapper's fast loops record them (:meth:`Mapper.joints_from_marks`)."""
+        return self.base.joints_from_marks(out, marks)
 
 
 def make_op(items: tuple[Item, ...], joint: int | None) -> Any:
@@ -166,7 +138,7 @@ def make_op(items: tuple[Item, ...], joint: int | None) -> Any:
       ints the loops record with the output's length, so its text is cut out afterwards.
     """
     if joint is not None:
-        return "", None, (_OPEN - 2 * joint - 1, *reversed(items), _OPEN - 2 * joint)
+        return joint_op(joint, items)
     if not any(isinstance(i, int) for i in items):
         return "".join(items)  # type: ignore[arg-type]
     rest = list(items)
@@ -190,18 +162,7 @@ def grammar_tables(source: Grammar | Cfg, joints: Mapping[str, str] | None = Non
     )
     if depth[base.start] is None:
         raise MapperError(f"the start rule <{cfg.names[base.start]}> derives no finite phenotype")
-    joint_rules = tuple(base.joint_rules)
-    joint_markers: tuple[tuple[str, int, int], ...] = ()
-    if all(occurrence_bounds(cfg, r, facts.productive)[1] <= 1 for r in joint_rules):
-        rule_of = {name: r for r, names in base.joint_rules.items() for name in names}
-        joint_markers = tuple(
-            (
-                name,
-                _OPEN - 2 * joint_rules.index(rule_of[name]),
-                _OPEN - 2 * joint_rules.index(rule_of[name]) - 1,
-            )
-            for name in base._joint_order
-        )
+    joint_rules = base.joint_list
     ops = tuple(
         tuple(make_op(items, joint_rules.index(r) if r in joint_rules else None) for items in choices)
         for r, choices in enumerate(base.productions)
@@ -209,7 +170,7 @@ def grammar_tables(source: Grammar | Cfg, joints: Mapping[str, str] | None = Non
     children = tuple(
         tuple(tuple(i for i in choice if isinstance(i, int)) for choice in choices) for choices in cfg.choices
     )
-    return GrammarTables(cfg, facts, base.start, base, ops, children, joint_rules, joint_markers)
+    return GrammarTables(cfg, facts, base.start, base, ops, children, joint_rules)
 
 
 def decode_genes(
