@@ -19,10 +19,11 @@ from gaitgram.analysis import CheckResult
 from gaitgram.cli.common import compiled_or_exit, fail, load_usable
 from gaitgram.cli.options import Defines, Representation, RepresentationSettings, ge_default, parse_defines
 from gaitgram.ge import CodonMode, compile_mapper
-from gaitgram.ge.registry import DEFAULT_REPRESENTATION, Compiled
+from gaitgram.ge.registry import DEFAULT_REPRESENTATION
 from gaitgram.ge.visualise import ascii_tree
-from gaitgram.testing import derivations, initial_genomes
+from gaitgram.testing import derivations, representation_genomes
 from gaitgram.testing.properties import BUILT_IN, Context, Property
+from gaitgram.testing.trees import DEFAULT_MAX_DEPTH, depth_budget
 
 
 class OutputFormat(StrEnum):
@@ -40,7 +41,9 @@ def command(
     seed_value: Annotated[int, typer.Option("--seed", help="Random seed: same seed, same examples.")] = 0,
     max_depth: Annotated[
         int | None,
-        typer.Option(min=1, help="Deepest derivation generated (default 10; another representation's own)."),
+        typer.Option(
+            min=1, help="Deepest derivation generated (default: the representation's max_depth, else 10)."
+        ),
     ] = None,
     codons: Annotated[CodonMode, typer.Option(help="lazy or eager codon consumption.")] = _CODONS,
     properties: Annotated[Path | None, typer.Option(help="A Python file of property_* functions.")] = None,
@@ -56,7 +59,7 @@ def command(
 
     Built-in properties: clean mapping, determinism, depth, joint curves compile, are finite and
     stay within their limits; add your own with --properties FILE. With --representation, the
-    derivations of that representation's initial genomes, as a run's first generation.
+    derivations of that representation's genomes, drawn as trees so that they shrink as GE's do.
     """
     checked = load_usable(grammar, parse_defines(defines))
     mapper = compile_mapper(checked.grammar, codons=codons, max_wraps=0)
@@ -91,10 +94,6 @@ def command(
         raise typer.Exit(1)
 
 
-#: GE's ``--max-depth`` when none is given.
-DEFAULT_MAX_DEPTH = 10
-
-
 def _examples(
     checked: CheckResult,
     context: Context,
@@ -103,23 +102,18 @@ def _examples(
     max_depth: int | None,
     codons: CodonMode,
 ) -> tuple[Context, Any]:
-    """What the properties are checked on: GE's derivations, or another representation's initial
-    genomes (the context then holds it and its depth limit)."""
-    if representation != DEFAULT_REPRESENTATION:
-        compiled = compiled_or_exit(checked, representation, setting, max_depth=max_depth)
-        context = replace(context, representation=compiled, max_depth=_depth_limit(compiled, max_depth))
-        return context, initial_genomes(compiled)
+    """What the properties are checked on: GE's derivations, or another representation's genomes
+    drawn as trees (the context then holds it and the depth they keep to: ``--max-depth``, else its
+    own ``max_depth`` setting, else 10; a plug-in's initial genomes keep to its own)."""
     try:
-        return context, derivations(checked.grammar, max_depth=context.max_depth, codons=codons)
+        if representation == DEFAULT_REPRESENTATION:
+            return context, derivations(checked.grammar, max_depth=context.max_depth, codons=codons)
+        compiled = compiled_or_exit(checked, representation, setting, max_depth=max_depth)
+        limit = depth_budget(compiled, max_depth) or 1 << 62
+        strategy = representation_genomes(compiled, max_depth=max_depth)
     except ValueError as error:
         raise fail(str(error), 1) from None
-
-
-def _depth_limit(compiled: Compiled, given: int | None) -> int:
-    """What ``within-max-depth`` checks of another representation: ``--max-depth``, else its own
-    ``max_depth`` setting (its initialisation keeps to it), else no limit."""
-    own = getattr(compiled, "settings", {}).get("max_depth")  # a plug-in may declare none
-    return given or own or 1 << 62
+    return replace(context, representation=compiled, max_depth=limit), strategy
 
 
 def _run(name: str, check: Property, strategy: Any, context: Context, examples: int, seed_value: int) -> dict:

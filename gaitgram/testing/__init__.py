@@ -14,13 +14,14 @@
 
 Derivations are built top-down from drawn choice indices, with the minimum-depth
 analysis keeping every tree within ``max_depth``; choices are ordered shallowest
-first, so failures shrink toward shallow trees and low choice indices, and the
+first (then fewest rule children first), so failures shrink toward small, shallow
+trees and low choice indices, and the
 genome of each derivation is read off its choices (short genomes shrink shorter).
 
-Another representation than GE (``representation="sge"``, with its ``settings``) gives the
-derivations of the genomes its own initialisation makes, as a run's first generation, each from a
-drawn seed: they keep to the representation's depth limits, but shrink toward one genome (seed
-0's) rather than toward small trees.
+The genomes of every built-in representation (``representation="sge"``, with its ``settings``;
+:func:`representation_genomes` of a compiled one) are drawn the same way: a tree drawn within the
+representation's depth limits, written as its genome (:mod:`gaitgram.testing.trees`), so that they
+shrink toward small trees too.
 
 The properties ``gaitgram test`` checks on them, and the ``PropertyFailed`` a user's own raise, are
 in :mod:`gaitgram.testing.properties`.
@@ -42,8 +43,25 @@ from gaitgram.ge.registry import DEFAULT_REPRESENTATION, Compiled, Genome, compi
 from gaitgram.language.model import FREQUENCY, Grammar
 from gaitgram.motion.expression import Motion, compile_motion
 from gaitgram.testing.properties import backend_sensors, nominal_curve
+from gaitgram.testing.trees import (
+    DEFAULT_MAX_DEPTH,
+    depth_budget,
+    encode_derivation,
+    ge_plan,
+    plan_of,
+    tree_genomes,
+)
 
-__all__ = ["compiled_representation", "derivations", "genomes", "initial_genomes", "motions", "phenotypes"]
+__all__ = [
+    "compiled_representation",
+    "derivations",
+    "encode_derivation",
+    "genomes",
+    "initial_genomes",
+    "motions",
+    "phenotypes",
+    "representation_genomes",
+]
 
 #: Codons drawn by ``genomes``: small values shrink best and still select every choice.
 DEFAULT_CODON_SIZE = 1_000
@@ -89,7 +107,7 @@ FIRST_GENERATION = 32
 def initial_genomes(compiled: Compiled) -> st.SearchStrategy[Genome]:
     """Genomes of a compiled representation: a drawn member of the first generation its
     initialisation makes from a drawn seed, what a run starts from. They shrink toward the first
-    member of seed 0's."""
+    member of seed 0's, not toward small trees: :func:`representation_genomes` does."""
 
     def member(drawn: tuple[int, int]) -> Genome:
         seed, index = drawn
@@ -98,51 +116,46 @@ def initial_genomes(compiled: Compiled) -> st.SearchStrategy[Genome]:
     return st.tuples(st.integers(0, 2**32 - 1), st.integers(0, FIRST_GENERATION - 1)).map(member)
 
 
+def representation_genomes(compiled: Compiled, *, max_depth: int | None = None) -> st.SearchStrategy[Genome]:
+    """Genomes of a compiled representation (:func:`compiled_representation`), each the genome of a
+    tree drawn as :func:`derivations` draws GE's, so that they shrink toward small trees and low
+    choices: every one maps to a valid derivation no deeper than ``max_depth`` and the
+    representation's own depth limits (without either, 10 deep). A plug-in's representation,
+    whose genomes gaitgram cannot write from a tree, gets :func:`initial_genomes`."""
+    plan = plan_of(compiled)
+    if plan is None:
+        return initial_genomes(compiled)
+    budget = depth_budget(compiled, max_depth)
+    assert budget is not None
+    return tree_genomes(plan, budget)
+
+
 def derivations(
     grammar: Grammar,
     *,
-    max_depth: int = 10,
+    max_depth: int | None = None,
     codons: CodonMode | str = CodonMode.LAZY,
     max_wraps: int = 0,
     representation: str = DEFAULT_REPRESENTATION,
     settings: Mapping[str, Any] | None = None,
 ) -> st.SearchStrategy[Derivation]:
-    """Valid derivations within ``max_depth``, mapped from the genome that encodes them; of another
-    representation than GE, those of its initial genomes, within its ``settings``' depth limits
-    (``max_depth``, ``codons`` and ``max_wraps`` are GE's)."""
+    """Valid derivations within ``max_depth`` (GE's default 10), mapped from the genome that encodes
+    them; of another representation than GE, the derivations of its
+    :func:`representation_genomes`, within ``max_depth`` and its ``settings``' depth limits
+    (``codons`` and ``max_wraps`` are GE's)."""
     if representation != DEFAULT_REPRESENTATION:
         compiled = compiled_representation(grammar, representation, settings)
-        return initial_genomes(compiled).map(compiled.derivation).filter(lambda d: d.valid)
-    mode = CodonMode(codons)
+        drawn = representation_genomes(compiled, max_depth=max_depth).map(compiled.derivation)
+        # A plug-in's initial genomes may map as invalid; drawn trees never do.
+        return drawn if plan_of(compiled) is not None else drawn.filter(lambda d: d.valid)
     facts = _facts(grammar)
-    cfg = facts.cfg
-    if cfg.start is None or facts.min_depth[cfg.start] is None or facts.min_depth[cfg.start] > max_depth:
-        raise ValueError(f"the grammar has no derivation within depth {max_depth}")
-    # Per rule, its choices ordered shallowest first: index 0 is what shrinking aims for.
-    order = [
-        sorted(range(len(depths)), key=lambda c, depths=depths: (depths[c] is None, depths[c] or 0, c))
-        for depths in facts.choice_min_depth
-    ]
-
-    @st.composite
-    def build(draw: st.DrawFn) -> Derivation:
-        genome: list[int] = []
-        stack = [(cfg.start, 1)]
-        while stack:
-            rule, level = stack.pop()
-            room = max_depth - level + 1
-            fitting = [
-                c for c in order[rule] if (d := facts.choice_min_depth[rule][c]) is not None and d <= room
-            ]
-            choice = fitting[draw(st.integers(0, len(fitting) - 1))]
-            n = len(cfg.choices[rule])
-            if n > 1 or mode is CodonMode.EAGER:
-                genome.append(choice)
-            children = [item for item in cfg.choices[rule][choice] if isinstance(item, int)]
-            stack.extend((child, level + 1) for child in reversed(children))
-        return _mapper(grammar, mode, max_wraps, None).map(genome or [0])
-
-    return build()
+    depth = DEFAULT_MAX_DEPTH if max_depth is None else max_depth
+    if facts.cfg.start is None:
+        raise ValueError(f"the grammar has no derivation within depth {depth}")
+    mode = CodonMode(codons)
+    mapper = _mapper(grammar, mode, max_wraps, None)
+    plan = ge_plan(facts.cfg, facts.choice_min_depth, mode, None)
+    return tree_genomes(plan, depth).map(lambda genome: mapper.map(list(genome)))
 
 
 def phenotypes(grammar: Grammar, **options: object) -> st.SearchStrategy[str]:

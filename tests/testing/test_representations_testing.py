@@ -1,6 +1,7 @@
 """``gaitgram test --representation`` and ``gaitgram.testing``'s strategies of another representation
-(issue 41.4): a planted defect is found in each representation's initial genomes and reported as a
-genome of that representation, which ``gaitgram map`` maps back to the defect."""
+(issue 41.4): a planted defect is found in each representation's genomes, shrunk to the smallest
+tree that has it, and reported as a genome of that representation, which ``gaitgram map`` maps back
+to the defect."""
 
 from __future__ import annotations
 
@@ -63,6 +64,36 @@ def test_a_planted_defect_is_reported_as_a_genome_of_the_representation(
         app, ["map", grammar, "--representation", representation, "--genome", failed["genome"]]
     )
     assert mapped.exit_code == 0, mapped.stderr
+    assert mapped.stdout.splitlines()[0] == failed["phenotype"]
+
+
+#: The amplitude can pass the limits, in one term or in a sum of them.
+TOO_WIDE = """\
+<gait> ::= <hip>
+@joint hip limits=-20..20
+<hip> ::= <amp>*sin(2*PI*t) | <hip>+<amp>*sin(4*PI*t)
+<amp> ::= int[0..30]
+"""
+
+#: The smallest genome of the smallest counterexample, where its text is short.
+SMALLEST = {"pige": "0,0,0,0,0,21", "dsge": "[[0], [0], [21]]", "cfg-gp": "<gait>0(<hip>0(<amp>21))"}
+
+
+@pytest.mark.parametrize("representation", REPRESENTATIONS)
+def test_a_counterexample_shrinks_to_the_smallest_tree_as_ges_do(tmp_path: Path, representation: str) -> None:
+    """The shrunk counterexample is the one-term curve at the first amplitude past the limit, as
+    GE's is, not whichever genome a first generation held; its genome is the smallest too."""
+    grammar = write(tmp_path, TOO_WIDE)
+    result = runner.invoke(
+        app, ["test", grammar, "--representation", representation, "-p", "curves-within-limits", "-f", "json"]
+    )
+    assert result.exit_code == 1, result.stderr
+    [failed] = json.loads(result.stdout)
+    assert failed["phenotype"] == "21*sin(2*PI*t)"
+    assert failed["genome"] == SMALLEST.get(representation, failed["genome"])
+    mapped = runner.invoke(
+        app, ["map", grammar, "--representation", representation, "--genome", failed["genome"]]
+    )
     assert mapped.stdout.splitlines()[0] == failed["phenotype"]
 
 
