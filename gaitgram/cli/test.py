@@ -21,7 +21,7 @@ from gaitgram.cli.options import Defines, Representation, RepresentationSettings
 from gaitgram.ge import CodonMode, compile_mapper
 from gaitgram.ge.registry import DEFAULT_REPRESENTATION
 from gaitgram.ge.visualise import ascii_tree
-from gaitgram.testing import derivations, representation_genomes
+from gaitgram.testing import DepthTooShallow, derivations, representation_genomes
 from gaitgram.testing.properties import BUILT_IN, Context, Property
 from gaitgram.testing.trees import DEFAULT_MAX_DEPTH, depth_budget
 
@@ -111,6 +111,9 @@ def _examples(
         compiled = compiled_or_exit(checked, representation, setting, max_depth=max_depth)
         limit = depth_budget(compiled, max_depth) or 1 << 62
         strategy = representation_genomes(compiled, max_depth=max_depth)
+    except DepthTooShallow as error:
+        fix = "" if error.shortest is None else f"; give --max-depth {error.shortest} or more"
+        raise fail(f"{error}{fix}", 2) from None
     except ValueError as error:
         raise fail(str(error), 1) from None
     return replace(context, representation=compiled, max_depth=limit), strategy

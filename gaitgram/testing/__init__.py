@@ -45,6 +45,7 @@ from gaitgram.motion.expression import Motion, compile_motion
 from gaitgram.testing.properties import backend_sensors, nominal_curve
 from gaitgram.testing.trees import (
     DEFAULT_MAX_DEPTH,
+    DepthTooShallow,
     depth_budget,
     encode_derivation,
     ge_plan,
@@ -53,6 +54,7 @@ from gaitgram.testing.trees import (
 )
 
 __all__ = [
+    "DepthTooShallow",
     "compiled_representation",
     "derivations",
     "encode_derivation",
@@ -151,7 +153,7 @@ def derivations(
     facts = _facts(grammar)
     depth = DEFAULT_MAX_DEPTH if max_depth is None else max_depth
     if facts.cfg.start is None:
-        raise ValueError(f"the grammar has no derivation within depth {depth}")
+        raise DepthTooShallow(depth, None)
     mode = CodonMode(codons)
     mapper = _mapper(grammar, mode, max_wraps, None)
     plan = ge_plan(facts.cfg, facts.choice_min_depth, mode, None)

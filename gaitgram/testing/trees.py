@@ -39,6 +39,7 @@ from gaitgram.ge.sge import SGE
 
 __all__ = [
     "DEFAULT_MAX_DEPTH",
+    "DepthTooShallow",
     "Plan",
     "depth_budget",
     "draw_tree",
@@ -50,6 +51,17 @@ __all__ = [
 
 #: The depth budget of a representation with no depth limit of its own, and GE's default.
 DEFAULT_MAX_DEPTH = 10
+
+
+class DepthTooShallow(ValueError):
+    """No tree of the grammar fits the depth asked for; ``shortest`` is the depth its shallowest
+    derivation needs (None: the grammar derives no sentence at all)."""
+
+    def __init__(self, max_depth: int, shortest: int | None) -> None:
+        reason = f"its shallowest derivation is {shortest} deep" if shortest else "it derives no sentence"
+        super().__init__(f"the grammar has no derivation within depth {max_depth}: {reason}")
+        self.max_depth, self.shortest = max_depth, shortest
+
 
 #: Picks the order codon of an expansion among ``n`` open rules (πGE): drawn, or 0.
 Pick = Callable[[int], int]
@@ -124,7 +136,7 @@ def tree_genomes(plan: Plan, max_depth: int) -> st.SearchStrategy[Genome]:
     """Genomes of drawn trees within ``max_depth`` (:class:`ValueError` if no tree fits)."""
     shortest = plan.shortest()
     if shortest is None or shortest > max_depth:
-        raise ValueError(f"the grammar has no derivation within depth {max_depth}")
+        raise DepthTooShallow(max_depth, shortest)
 
     @st.composite
     def genome(draw: st.DrawFn) -> Genome:

@@ -6,6 +6,7 @@ to the defect."""
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -141,3 +142,22 @@ def test_the_strategies_keep_to_the_representations_depth_limit() -> None:
         settings=settings(database=None),
     )
     assert curves["hip"].shape == (128,)
+
+
+@pytest.mark.parametrize("representation", ["ge", *REPRESENTATIONS])
+def test_a_max_depth_too_shallow_is_refused_with_the_depth_that_fits(
+    tmp_path: Path, representation: str
+) -> None:
+    grammar = write(tmp_path, CLEAN)
+    common = ["test", grammar, "--examples", "10", "--representation", representation]
+    refused = runner.invoke(app, [*common, "--max-depth", "1"])
+    assert refused.exit_code == 2, refused.stdout
+    hint = r"its shallowest derivation is (\d+) deep; give --max-depth (\d+) or more"
+    found = re.search(hint, refused.stderr)
+    assert found is not None, refused.stderr
+    assert found[1] == found[2]
+    assert int(found[1]) > 1
+    assert "Traceback" not in refused.stderr
+    # The depth it names is enough, and one less is not.
+    assert runner.invoke(app, [*common, "--max-depth", found[1]]).exit_code == 0
+    assert runner.invoke(app, [*common, "--max-depth", str(int(found[1]) - 1)]).exit_code == 2
