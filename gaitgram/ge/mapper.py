@@ -21,9 +21,10 @@ it is used: the stack holds ``int`` rule indices and ``str`` terminals, codons
 come from a ``for`` loop over the genome (a pass per wrap), and a rule that
 must not be expanded has a choice count of 0, so that the modulo raises.
 A joint rule's items go between two negative ints, markers that the loops meet
-where they meet the bottom of the stack (no test on the common path) and record
-with the output's length, so that a joint's phenotype is one slice of the output,
-joined (:meth:`Mapper.joints_from_marks`), not a scan of every piece.
+where they meet the bottom of the stack (no test on the common path): the opening
+one records the output's length, the closing one joins the joint's text from there,
+so that a joint's phenotype is one slice of the output, joined once, not a scan of
+every piece. ``map_many`` maps a whole batch in one loop, set up once.
 ``python -m benchmarks map`` measures both paths.
 """
 
@@ -123,9 +124,9 @@ def joint_op(joint: int, items: tuple[Item, ...]) -> _Op:
 _PREFETCH_PASSES = 4
 
 _Op = tuple[str, int | None, tuple[Any, ...]]  # (leading terminals, first rule, the rest reversed)
-#: A fast loop's result: output pieces, codons used, why invalid (None: valid), joint markers met
-#: (each followed by the output's length then).
-_Run = tuple[list[str], int, "InvalidReason | None", list[int]]
+#: The depth-limited loop's result: output pieces, codons used, why invalid (None: valid), the texts of
+#: the joints closed, by name.
+_Run = tuple[list[str], int, "InvalidReason | None", dict[str, str]]
 
 
 def compile_mapper(
@@ -242,20 +243,30 @@ class Mapper:
                     for name in self._joint_order
                 )
 
+        #: The fast loops' naming of a joint's text: its rule's closing marker -> its (one) name. Where
+        #: a joint rule can occur twice or carries several names, the texts come from the tree.
+        self._close_names: dict[int, str] = {
+            _OPEN - 2 * k - 1: names[0] for k, names in enumerate(self.joint_rules.values())
+        }
+        self._joints_by_tree = bool(self.joint_list) and (
+            not self.joint_markers or any(len(names) > 1 for names in self.joint_rules.values())
+        )
+
         self._ops: tuple[tuple[_Op, ...], ...] = tuple(
             tuple(self._op(r, choice) for choice in choices) for r, choices in enumerate(self.productions)
         )
-        self._unit_ops: tuple[_Op | None, ...] = tuple(
-            ops[0] if self._k[r] == 1 else None for r, ops in enumerate(self._ops)
+        #: Each single-choice rule's op, Nones for the others: what the lazy loop expands on the spot.
+        self._unit_ops: tuple[_Op | tuple[None, None, None], ...] = tuple(
+            ops[0] if self._k[r] == 1 else (None, None, None) for r, ops in enumerate(self._ops)
         )
         self._passes = options.passes
         self._prefetch = min(options.passes, _PREFETCH_PASSES)
         if options.max_depth is not None:
-            self._run = self._run_depth
+            self._many = self._many_depth
         elif eager:
-            self._run = self._run_eager
+            self._many = self._many_eager
         else:
-            self._run = self._run_lazy
+            self._many = self._many_lazy
 
     def _op(self, rule: int, items: tuple[Item, ...]) -> _Op:
         """A choice as the fast loops apply it: emit the leading terminals, continue with
@@ -279,137 +290,242 @@ class Mapper:
 
     # ---- the fast path ---------------------------------------------------------------
     #
-    # The mapper's hot loops: ``_run_eager``, ``_run_lazy`` and ``_run_depth`` repeat one
+    # The mapper's hot loops: ``_many_eager``, ``_many_lazy`` and ``_run_depth`` repeat one
     # expansion step (emit the lead, push the rest, go on with the head, pop terminals) written
     # out in each on purpose: a shared helper would cost a call per codon, the step that every
     # evaluation pays. The tree mapper (``map``) is the reference they are tested against.
+    #
+    # ``_many_eager`` and ``_many_lazy`` map a whole batch in one call: the tables, the output
+    # list, the stack and their bound methods are set up once per batch, not once per genome, and
+    # each result is built in place. On a small grammar (PonyGE2's letter.bnf: a dozen codons a
+    # genome) that per-genome setup was a third of the time. A derivation's end is met deep
+    # inside the loops; it leaves them through ``for``/``while`` ... ``else`` clauses, which cost
+    # nothing on the common path (no flag tested per codon).
+    #
+    # A joint's text is joined where its closing marker is met, from the output's length
+    # recorded at its opening marker, and stored under its name: no second pass over markers.
 
     def map_fast(self, genome: Sequence[int]) -> Mapped:
         """Phenotype, used codons, wraps and joint phenotypes, without building the tree."""
-        return self.map_many((genome,))[0]
+        return self._many((genome,))[0]
 
     def map_many(self, genomes: Iterable[Sequence[int]]) -> list[Mapped]:
-        """:meth:`map_fast` over many genomes (the per-genome overhead hoisted out of the loop)."""
-        run, cut = self._run, self.joints_from_marks
-        new = tuple.__new__
-        results: list[Mapped] = []
-        append = results.append
-        for genome in genomes:
-            codons = genome if genome.__class__ is list else _as_list(genome)
-            out, used, reason, marks = run(codons)
-            n = len(codons)
-            wraps = (used - 1) // n if used and n else 0
-            if reason is None:
-                append(new(Mapped, ("".join(out), used, wraps, cut(out, marks) if marks else {}, None)))
-            else:
-                append(new(Mapped, (None, used, wraps, {}, reason)))
-        return results
+        """:meth:`map_fast` over many genomes, mapped in one loop (set up once per batch)."""
+        return self._many(genomes)
 
     def phenotype(self, genome: Sequence[int]) -> str | None:
         """Just the phenotype (None if invalid)."""
-        out, _, reason, _ = self._run(_as_list(genome))
-        return None if reason is not None else "".join(out)
+        return self._many((genome,))[0].phenotype
 
-    def _run_eager(self, codons: Sequence[int]) -> _Run:
-        ks, ops, stops = self._k, self._ops, self.stops
-        n = len(codons)
-        out: list[str] = []
-        append = out.append
-        marks: list[int] = []
-        stack: list[Any] = [_DONE]
-        pop, extend = stack.pop, stack.extend
-        item = self.start
-        # One expansion per codon, so the codons drive the loop: a pass per genome wrap,
-        # and the iterator's remaining length tells how many were used.
-        for passes in range(self._passes):
-            codon_iter = iter(codons)
-            try:
-                for codon in codon_iter:
-                    # ZeroDivisionError at a rule in ``stops``, after fetching a codon it does not use.
-                    lead, head, rest = ops[item][codon % ks[item]]
-                    if lead:
-                        append(lead)
-                    if rest:
-                        extend(rest)
-                    if head is not None:
-                        item = head
-                        continue
-                    item = pop()
-                    while True:
-                        while type(item) is not int:  # terminals
-                            append(item)
-                            item = pop()
-                        if item >= 0:
-                            break
-                        if item == _DONE:
-                            return out, (passes + 1) * n - length_hint(codon_iter), None, marks
-                        marks += item, len(out)  # a joint's marker
-                        item = pop()
-            except ZeroDivisionError:
-                return out, (passes + 1) * n - length_hint(codon_iter) - 1, stops[item], marks
-        return out, self._passes * n, stops.get(item, InvalidReason.CODONS), marks
+    def _joints(self, texts: dict[str, str], genome: Sequence[int]) -> dict[str, str]:
+        """A valid genome's joints in the grammar's order, from the texts its loop joined (in the
+        order their rules closed). Where a joint rule can occur twice in a derivation, or carries
+        several joint names (rare grammars), the loops' texts do not say which occurrence is the
+        first: the tree mapper gives them."""
+        if self._joints_by_tree:
+            return self.map(genome).joints
+        return {name: texts[name] for name in self._joint_order if name in texts}
 
-    def _run_lazy(self, codons: Sequence[int]) -> _Run:
-        ks, ops, unit_ops, stops = self._k, self._ops, self._unit_ops, self.stops
-        n = len(codons)
+    def _many_eager(self, genomes: Iterable[Sequence[int]]) -> list[Mapped]:
+        ks, ops, stops, start, allowed = self._k, self._ops, self.stops, self.start, self._passes
+        passes_range = range(allowed)
+        joint_name, order, ordered = self._close_names, self._joint_order, self._joints
+        new, invalid, join, remaining = tuple.__new__, InvalidReason.CODONS, "".join, length_hint
+        results: list[Mapped] = []
+        keep = results.append
         out: list[str] = []
-        append = out.append
-        marks: list[int] = []
-        stack: list[Any] = [_DONE]
-        pop, extend = stack.pop, stack.extend
-        item = self.start
-        # As _run_eager, except that after each expansion the single-choice rules that
-        # follow are expanded on the spot, so that the loop sees only rules that read.
-        while ks[item] == 1:
-            lead, head, rest = unit_ops[item]  # type: ignore[misc]
-            if lead:
-                append(lead)
-            if rest:
-                extend(rest)
-            if head is not None:
-                item = head
-                continue
-            item = pop()
-            while True:
-                while type(item) is not int:
-                    append(item)
-                    item = pop()
-                if item >= 0:
-                    break
-                if item == _DONE:
-                    return out, 0, None, marks
-                marks += item, len(out)
-                item = pop()
-        for passes in range(self._passes):
-            codon_iter = iter(codons)
-            try:
-                for codon in codon_iter:
-                    lead, head, rest = ops[item][codon % ks[item]]
-                    while True:
+        append, clear = out.append, out.clear
+        stack: list[Any] = []
+        push, pop, extend = stack.append, stack.pop, stack.extend
+        starts: list[int] = []  # the output's length at each open joint's marker
+        mark, unmark = starts.append, starts.pop
+        for genome in genomes:
+            codons = genome if genome.__class__ is list else _as_list(genome)
+            n = len(codons)
+            texts: dict[str, str] = {}
+            push(_DONE)
+            item = start
+            # One expansion per codon, so the codons drive the loop: a pass per genome wrap,
+            # and the iterator's remaining length tells how many were used.
+            for passes in passes_range:
+                codon_iter = iter(codons)
+                try:
+                    for codon in codon_iter:
+                        # ZeroDivisionError at a rule in ``stops``, after fetching a codon it does not use.
+                        lead, head, rest = ops[item][codon % ks[item]]
                         if lead:
                             append(lead)
                         if rest:
                             extend(rest)
                         if head is not None:
                             item = head
-                        else:
+                            continue
+                        item = pop()
+                        while type(item) is not int:  # terminals
+                            append(item)
                             item = pop()
-                            while True:
-                                while type(item) is not int:
-                                    append(item)
-                                    item = pop()
-                                if item >= 0:
-                                    break
-                                if item == _DONE:
-                                    return out, (passes + 1) * n - length_hint(codon_iter), None, marks
-                                marks += item, len(out)
+                        if item >= 0:
+                            continue
+                        while item != _DONE:  # a joint's marker: odd opens, even closes
+                            if item & 1:
+                                mark(len(out))
+                            else:
+                                texts[joint_name[item]] = join(out[unmark() :])
+                            item = pop()
+                            while type(item) is not int:
+                                append(item)
                                 item = pop()
-                        if ks[item] != 1:
+                            if item >= 0:
+                                break
+                        else:
+                            break  # the derivation is complete
+                    else:
+                        continue  # this pass's codons are used up: wrap
+                except ZeroDivisionError:
+                    reason, used = stops[item], (passes + 1) * n - remaining(codon_iter) - 1
+                else:
+                    reason, used = None, (passes + 1) * n - remaining(codon_iter)
+                break
+            else:
+                reason, used = stops.get(item, invalid), allowed * n
+            wraps = (used - 1) // n if used else 0
+            if reason is None:
+                if texts and tuple(texts) != order:
+                    texts = ordered(texts, codons)
+                keep(new(Mapped, (join(out), used, wraps, texts, None)))
+            else:
+                keep(new(Mapped, (None, used, wraps, {}, reason)))
+                stack.clear()
+                starts.clear()
+            clear()
+        return results
+
+    def _many_lazy(self, genomes: Iterable[Sequence[int]]) -> list[Mapped]:
+        ks, ops, unit_ops, stops, start = self._k, self._ops, self._unit_ops, self.stops, self.start
+        allowed = self._passes
+        passes_range = range(allowed)
+        joint_name, order, ordered = self._close_names, self._joint_order, self._joints
+        new, invalid, join, remaining = tuple.__new__, InvalidReason.CODONS, "".join, length_hint
+        results: list[Mapped] = []
+        keep = results.append
+        out: list[str] = []
+        append, clear = out.append, out.clear
+        stack: list[Any] = []
+        push, pop, extend = stack.append, stack.pop, stack.extend
+        starts: list[int] = []
+        mark, unmark = starts.append, starts.pop
+        for genome in genomes:
+            codons = genome if genome.__class__ is list else _as_list(genome)
+            n = len(codons)
+            texts: dict[str, str] = {}
+            push(_DONE)
+            item = start
+            reason, used = None, 0
+            # As _many_eager, except that after each expansion the single-choice rules that
+            # follow are expanded on the spot (``unit_ops``: Nones for a rule that reads), so
+            # that the codon loop sees only rules that read. First those before any codon:
+            lead, head, rest = unit_ops[item]
+            while lead is not None:
+                if lead:
+                    append(lead)
+                if rest:
+                    extend(rest)
+                if head is not None:
+                    item = head
+                else:
+                    item = pop()
+                    while type(item) is not int:
+                        append(item)
+                        item = pop()
+                    if item < 0:
+                        while item != _DONE:
+                            if item & 1:
+                                mark(len(out))
+                            else:
+                                texts[joint_name[item]] = join(out[unmark() :])
+                            item = pop()
+                            while type(item) is not int:
+                                append(item)
+                                item = pop()
+                            if item >= 0:
+                                break
+                        else:
+                            break  # the derivation is complete without reading a codon
+                lead, head, rest = unit_ops[item]
+            else:
+                for passes in passes_range:
+                    codon_iter = iter(codons)
+                    try:
+                        for codon in codon_iter:
+                            lead, head, rest = ops[item][codon % ks[item]]
+                            while lead is not None:
+                                if lead:
+                                    append(lead)
+                                if rest:
+                                    extend(rest)
+                                if head is not None:
+                                    item = head
+                                else:
+                                    item = pop()
+                                    while type(item) is not int:
+                                        append(item)
+                                        item = pop()
+                                    if item < 0:
+                                        while item != _DONE:
+                                            if item & 1:
+                                                mark(len(out))
+                                            else:
+                                                texts[joint_name[item]] = join(out[unmark() :])
+                                            item = pop()
+                                            while type(item) is not int:
+                                                append(item)
+                                                item = pop()
+                                            if item >= 0:
+                                                break
+                                        else:
+                                            break  # the derivation is complete
+                                lead, head, rest = unit_ops[item]
+                            else:
+                                continue  # the next rule reads a codon
                             break
-                        lead, head, rest = unit_ops[item]  # type: ignore[misc]
-            except ZeroDivisionError:
-                return out, (passes + 1) * n - length_hint(codon_iter) - 1, stops[item], marks
-        return out, self._passes * n, stops.get(item, InvalidReason.CODONS), marks
+                        else:
+                            continue  # this pass's codons are used up: wrap
+                    except ZeroDivisionError:
+                        reason, used = stops[item], (passes + 1) * n - remaining(codon_iter) - 1
+                    else:
+                        reason, used = None, (passes + 1) * n - remaining(codon_iter)
+                    break
+                else:
+                    reason, used = stops.get(item, invalid), allowed * n
+            wraps = (used - 1) // n if used else 0
+            if reason is None:
+                if texts and tuple(texts) != order:
+                    texts = ordered(texts, codons)
+                keep(new(Mapped, (join(out), used, wraps, texts, None)))
+            else:
+                keep(new(Mapped, (None, used, wraps, {}, reason)))
+                stack.clear()
+                starts.clear()
+            clear()
+        return results
+
+    def _many_depth(self, genomes: Iterable[Sequence[int]]) -> list[Mapped]:
+        """Both modes with a depth limit, a genome at a time (``_run_depth``)."""
+        run, order, ordered, new = self._run_depth, self._joint_order, self._joints, tuple.__new__
+        results: list[Mapped] = []
+        keep = results.append
+        for genome in genomes:
+            codons = _as_list(genome)
+            out, used, reason, texts = run(codons)
+            n = len(codons)
+            wraps = (used - 1) // n if used else 0
+            if reason is None:
+                if texts and tuple(texts) != order:
+                    texts = ordered(texts, codons)
+                keep(new(Mapped, ("".join(out), used, wraps, texts, None)))
+            else:
+                keep(new(Mapped, (None, used, wraps, {}, reason)))
+        return results
 
     def _run_depth(self, codons: Sequence[int]) -> _Run:
         """Both modes with a depth limit: a level-close sentinel under each expansion's children."""
@@ -420,7 +536,9 @@ class Mapper:
         g = codons * self._prefetch if codons.__class__ is list else list(codons) * self._prefetch
         out: list[str] = []
         append = out.append
-        marks: list[int] = []
+        joint_name = self._close_names
+        texts: dict[str, str] = {}
+        starts: list[int] = []
         stack: list[Any] = [_DONE]
         pop, push, extend = stack.pop, stack.append, stack.extend
         used = 0
@@ -430,7 +548,7 @@ class Mapper:
             try:
                 while True:
                     if depth >= max_depth:
-                        return out, used, InvalidReason.DEPTH, marks
+                        return out, used, InvalidReason.DEPTH, texts
                     if reads[item]:
                         # IndexError when the codons laid out so far run out, ZeroDivisionError
                         # at a rule in ``stops``: both before any state changes, so a retry is exact.
@@ -457,18 +575,20 @@ class Mapper:
                         if item == _UP:
                             depth -= 1
                         elif item == _DONE:
-                            return out, used, None, marks
-                        else:  # a joint's marker
-                            marks += item, len(out)
+                            return out, used, None, texts
+                        elif item & 1:  # a joint's opening marker
+                            starts.append(len(out))
+                        else:
+                            texts[joint_name[item]] = "".join(out[starts.pop() :])
                         item = pop()
             except IndexError:
                 if ks[item] == 0:
-                    return out, used, stops[item], marks
+                    return out, used, stops[item], texts
                 if len(g) >= limit:
-                    return out, used, InvalidReason.CODONS, marks
+                    return out, used, InvalidReason.CODONS, texts
                 g.extend(codons)
             except ZeroDivisionError:
-                return out, used, stops[item], marks
+                return out, used, stops[item], texts
 
     def joints_from_marks(self, out: list[str], marks: list[int]) -> dict[str, str]:
         """Each joint's phenotype, from the markers a fast loop met (each followed by the
