@@ -5,19 +5,20 @@ growing sizes, ``assessment.json``'s ``graded``; on the horse,
 :mod:`gaitgram.backends.mujoco_horse.robustness`). A run **holds** a rung when its best gait is a
 walk (the run hands back a walk) and holds every play of the rung (every floor, every phase of a
 push). Per arm and rung the section gives the share of runs that hold it, with its Wilson
-interval, and per family the largest size that at least :data:`GOAL` of the runs hold; rungs that
-two arms differ on get Fisher's exact test, Holm-corrected over the rungs.
+interval, and per family the largest size that at least :data:`GOAL` of the runs hold; each pair of
+arms gets Fisher's exact test on every rung they differ on, Holm-corrected over all of them.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from itertools import combinations
 
 from gaitgram.report import escape
 from gaitgram.report.realism_robustness import ASSESS_TEXT, ArmAssessed, Assessed
 from gaitgram.report.records import ArmRecord
-from gaitgram.report.sections import Column, Kind, Section, Table
+from gaitgram.report.sections import Column, Kind, Section, Table, p_text
 from gaitgram.report.stats import holm, wilson_interval
 
 __all__ = ["GOAL", "graded_section"]
@@ -140,23 +141,28 @@ def _largest_row(arm: ArmAssessed, rungs: Sequence[_Rung], families: Sequence[st
 
 
 def _fisher_notes(assessed: Sequence[ArmAssessed], rungs: Sequence[_Rung]) -> list[str]:
-    """Fisher's exact test of two arms' shares on each rung they differ on, Holm over the rungs."""
-    if len(assessed) != 2:
-        return []
+    """Fisher's exact test of each pair of arms' shares on each rung they differ on, Holm over
+    every test made (the rungs of every pair)."""
     from scipy import stats  # only when a report is made
 
-    a, b = assessed
     tests = []
-    for rung in rungs:
-        (ha, na), (hb, nb) = _counts(a, rung), _counts(b, rung)
-        if na and nb and (ha, na) != (hb, nb):
-            p = float(stats.fisher_exact([[ha, na - ha], [hb, nb - hb]]).pvalue)
-            tests.append((rung, ha, na, hb, nb, p))
+    for a, b in combinations(assessed, 2):
+        for rung in rungs:
+            (ha, na), (hb, nb) = _counts(a, rung), _counts(b, rung)
+            if na and nb and (ha, na) != (hb, nb):
+                p = float(stats.fisher_exact([[ha, na - ha], [hb, nb - hb]]).pvalue)
+                tests.append((rung, a, ha, na, b, hb, nb, p))
     if not tests:
         return []
-    adjusted = holm([test[5] for test in tests])
+    adjusted = holm([test[-1] for test in tests])
     return [
         f"{escape.markdown(rung.label)}: {escape.markdown(a.arm)} {ha}/{na} against "
-        f"{escape.markdown(b.arm)} {hb}/{nb}, Fisher p = {p:.4f} (Holm {q:.4f})"
-        for (rung, ha, na, hb, nb, p), q in zip(tests, adjusted, strict=True)
+        f"{escape.markdown(b.arm)} {hb}/{nb}, Fisher p {_p(p)} (Holm {p_text(q)})"
+        for (rung, a, ha, na, b, hb, nb, p), q in zip(tests, adjusted, strict=True)
     ]
+
+
+def _p(value: float) -> str:
+    """``= 0.0211`` or ``< 0.0001``, as the other sections write a p-value."""
+    text = p_text(value)
+    return text if text.startswith("<") else f"= {text}"

@@ -100,3 +100,33 @@ def test_the_trials_rungs_are_the_issues() -> None:
         ("slope-down", 6),
     ]
     assert isinstance(GRADES[0], GradeRung)
+
+
+def test_three_arms_are_compared_pair_by_pair_holm_over_every_test() -> None:
+    """Every pair of arms gets Fisher's exact test on the rungs it differs on, and Holm's
+    correction runs over all the tests of all pairs (two arms: their tests alone, as before)."""
+    from scipy import stats
+
+    names = {(g.family, g.size): g.name for g in GRADES}
+    bumps, push = names["bumps", 2], names["push-forward", 20]
+    arms = [_arm("a", {bumps: 10, push: 10}), _arm("b", {bumps: 2, push: 10}), _arm("c", {bumps: 0, push: 3})]
+    notes = [n for n in graded_section([], arms).notes if "Fisher" in n]
+    # a-b differ on the bumps; a-c and b-c on both rungs: five tests.
+    assert len(notes) == 5, notes
+    expected = {
+        ("bumps 2 cm", "a 10/10 against b 2/10"),
+        ("bumps 2 cm", "a 10/10 against c 0/10"),
+        ("push-forward 20 %", "a 10/10 against c 3/10"),
+        ("bumps 2 cm", "b 2/10 against c 0/10"),
+        ("push-forward 20 %", "b 10/10 against c 3/10"),
+    }
+    assert {(n.split(":")[0], n.split(": ")[1].split(",")[0]) for n in notes} == expected
+    # Holm over five: the smallest p times 5.
+    smallest = float(stats.fisher_exact([[10, 0], [0, 10]]).pvalue)
+    note = next(n for n in notes if "a 10/10 against c 0/10" in n)
+    assert smallest * 5 < 1e-4  # written as the other sections write a p-value that small
+    assert "Fisher p < 0.0001 (Holm < 0.0001)" in note
+    # The largest p of the five: Holm leaves it as it is.
+    other = next(n for n in notes if "b 2/10 against c 0/10" in n)
+    p = float(stats.fisher_exact([[2, 8], [0, 10]]).pvalue)
+    assert f"Fisher p = {p:.4f} (Holm {p:.4f})" in other
