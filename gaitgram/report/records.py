@@ -287,10 +287,26 @@ def _usage(path: Path) -> RunUsage | None:
 
 
 def _walk_share(records: list[dict[str, Any]], verdict: Verdict | None) -> np.ndarray | None:
+    """Per generation, the walk component's mean; 0 for a generation in which no gait could be
+    measured (every one unviable: none is a walk, and a run's records then hold no means). None
+    when some other generation lacks it (records made before runs recorded it)."""
     key = None if verdict is None else f"mean_{verdict.component}"
-    if key is None or any(record.get(key) is None for record in records):
+    if key is None:
         return None
-    return np.array([float(record[key]) for record in records])
+    shares = []
+    for record in records:
+        value = record.get(key)
+        if value is None and _all_unviable(record):
+            value = 0.0
+        if value is None:
+            return None
+        shares.append(float(value))
+    return np.array(shares)
+
+
+def _all_unviable(record: dict[str, Any]) -> bool:
+    evaluations = record.get("evaluations")
+    return _count(evaluations) and evaluations > 0 and record.get("invalid") == evaluations
 
 
 def _lines(path: Path, rewrite: str) -> list[str]:

@@ -404,6 +404,35 @@ def test_the_first_walk_is_the_first_generation_whose_population_holds_one(tmp_p
     assert first_walk_section([arms[0], load_arm(silent)]) is None
 
 
+def test_a_generation_with_no_viable_gait_holds_no_walk(tmp_path: Path) -> None:
+    """A generation whose every gait is unviable records no means (none could be measured): it
+    holds no walk, so the run's first walk is still known; a generation that lacks the mean with
+    viable gaits in it does not say, and the section is left out."""
+    from gaitgram.report.records import load_arm
+    from gaitgram.report.sections import first_walk_section
+
+    path = write_arm(
+        tmp_path / "a",
+        [{"best_walk": 1.0, "walk_shares": [0.0, 0.5]}, {"best_walk": 1.0, "walk_shares": [0.25, 0.5]}],
+    )
+    stats = path / "run-000" / "stats.jsonl"
+    rows = [json.loads(line) for line in stats.read_text().splitlines()]
+    del rows[0]["mean_walk"]
+
+    def write(invalid: int) -> None:
+        rows[0]["invalid"] = invalid
+        stats.write_text("".join(json.dumps(r) + "\n" for r in rows))
+
+    write(invalid=rows[0]["evaluations"])
+    arm = load_arm(path)
+    assert [r.first_walk for r in arm.runs] == [1, 0]
+    assert first_walk_section([arm]) is not None
+    write(invalid=1)
+    arm = load_arm(path)
+    assert arm.runs[0].walk_share is None
+    assert first_walk_section([arm]) is None
+
+
 def test_where_the_runs_started_is_each_runs_first_generation_best(tmp_path: Path) -> None:
     from gaitgram.report.records import load_arm
     from gaitgram.report.sections import start_section
