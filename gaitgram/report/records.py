@@ -274,7 +274,7 @@ def _load_run(path: Path, generations: int, redo: str, verdict: Verdict | None) 
         if verdict is None or verdict.component not in components
         else verdict.holds_in(components, viable=best_record["status"] == "ok"),
         holds_walk=_holds_walk(path, records[-1], verdict),
-        walk_share=_walk_share(records, verdict),
+        walk_share=_walk_share(records, verdict, int(size)),
         usage=_usage(path),
     )
 
@@ -286,27 +286,22 @@ def _usage(path: Path) -> RunUsage | None:
         raise ReportError(str(error)) from None
 
 
-def _walk_share(records: list[dict[str, Any]], verdict: Verdict | None) -> np.ndarray | None:
+def _walk_share(records: list[dict[str, Any]], verdict: Verdict | None, population: int) -> np.ndarray | None:
     """Per generation, the walk component's mean; 0 for a generation in which no gait could be
-    measured (every one unviable: none is a walk, and a run's records then hold no means). None
-    when some other generation lacks it (records made before runs recorded it)."""
+    measured (all ``population`` unviable: none is a walk, and a run's records then hold no
+    means). None when some other generation lacks it (records made before runs recorded it)."""
     key = None if verdict is None else f"mean_{verdict.component}"
     if key is None:
         return None
     shares = []
     for record in records:
         value = record.get(key)
-        if value is None and _all_unviable(record):
+        if value is None and record.get("invalid") == population:
             value = 0.0
         if value is None:
             return None
         shares.append(float(value))
     return np.array(shares)
-
-
-def _all_unviable(record: dict[str, Any]) -> bool:
-    evaluations = record.get("evaluations")
-    return _count(evaluations) and evaluations > 0 and record.get("invalid") == evaluations
 
 
 def _lines(path: Path, rewrite: str) -> list[str]:

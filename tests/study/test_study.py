@@ -424,8 +424,15 @@ def test_a_generation_with_no_viable_gait_holds_no_walk(tmp_path: Path) -> None:
         stats.write_text("".join(json.dumps(r) + "\n" for r in rows))
 
     write(invalid=rows[0]["evaluations"])
+    # A later generation evaluates only its new gaits (population less the elite), all unviable.
+    later = path / "run-001" / "stats.jsonl"
+    second = [json.loads(line) for line in later.read_text().splitlines()]
+    del second[1]["mean_walk"]
+    second[1].update(evaluations=3, invalid=4)
+    later.write_text("".join(json.dumps(r) + "\n" for r in second))
     arm = load_arm(path)
     assert [r.first_walk for r in arm.runs] == [1, 0]
+    assert arm.runs[1].walk_share.tolist() == [0.25, 0.0]
     assert first_walk_section([arm]) is not None
     write(invalid=1)
     arm = load_arm(path)
