@@ -251,6 +251,9 @@ class Mapper:
         self._joints_by_tree = bool(self.joint_list) and (
             not self.joint_markers or any(len(names) > 1 for names in self.joint_rules.values())
         )
+        #: The joints' order when the loops' texts can be taken as they are (in that order); None
+        #: where they come from the tree (a repeated rule's later text may stand under its name).
+        self._loop_order: tuple[str, ...] | None = None if self._joints_by_tree else self._joint_order
 
         self._ops: tuple[tuple[_Op, ...], ...] = tuple(
             tuple(self._op(r, choice) for choice in choices) for r, choices in enumerate(self.productions)
@@ -329,7 +332,7 @@ class Mapper:
     def _many_eager(self, genomes: Iterable[Sequence[int]]) -> list[Mapped]:
         ks, ops, stops, start, allowed = self._k, self._ops, self.stops, self.start, self._passes
         passes_range = range(allowed)
-        joint_name, order, ordered = self._close_names, self._joint_order, self._joints
+        joint_name, order, ordered = self._close_names, self._loop_order, self._joints
         new, invalid, join, remaining = tuple.__new__, InvalidReason.CODONS, "".join, length_hint
         results: list[Mapped] = []
         keep = results.append
@@ -404,7 +407,7 @@ class Mapper:
         ks, ops, unit_ops, stops, start = self._k, self._ops, self._unit_ops, self.stops, self.start
         allowed = self._passes
         passes_range = range(allowed)
-        joint_name, order, ordered = self._close_names, self._joint_order, self._joints
+        joint_name, order, ordered = self._close_names, self._loop_order, self._joints
         new, invalid, join, remaining = tuple.__new__, InvalidReason.CODONS, "".join, length_hint
         results: list[Mapped] = []
         keep = results.append
@@ -511,7 +514,7 @@ class Mapper:
 
     def _many_depth(self, genomes: Iterable[Sequence[int]]) -> list[Mapped]:
         """Both modes with a depth limit, a genome at a time (``_run_depth``)."""
-        run, order, ordered, new = self._run_depth, self._joint_order, self._joints, tuple.__new__
+        run, order, ordered, new = self._run_depth, self._loop_order, self._joints, tuple.__new__
         results: list[Mapped] = []
         keep = results.append
         for genome in genomes:

@@ -251,6 +251,24 @@ def test_joints_of_a_bare_cfg() -> None:
     assert m.map([0, 1, 0, 0]).joints == m.map_fast([0, 1, 0, 0]).joints == {"left": "2", "right": "2"}
 
 
+@pytest.mark.parametrize("max_depth", [None, 50])
+@pytest.mark.parametrize("codons", ["lazy", "eager"])
+def test_a_joint_rule_derived_twice_gives_its_first_text_in_the_fast_path(
+    codons: str, max_depth: int | None
+) -> None:
+    m = mapper(
+        "<s> ::= <a>+<a>+<b> | <b>\n@joint a\n<a> ::= x | y | (<a>)\n@joint b\n<b> ::= 1 | 2\n",
+        codons=codons,
+        max_depth=max_depth,
+    )
+    d, fast = both(m, [0, 0, 1, 0])  # x+y+1: <a> twice, the joints closing in their declared order
+    assert (d.phenotype, d.joints) == ("x+y+1", {"a": "x", "b": "1"})
+    assert fast.joints == d.joints
+    d, fast = both(m, [0, 2, 0, 1, 0])  # (x)+y+1: the first <a> holds another
+    assert (d.phenotype, fast.joints) == ("(x)+y+1", {"a": "(x)", "b": "1"})
+    assert list(fast.joints) == ["a", "b"]
+
+
 # ---- determinism, inputs, options --------------------------------------------------------------
 
 
