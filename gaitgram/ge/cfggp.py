@@ -131,14 +131,15 @@ class CFGGP:
         sequence that is not one tree of the grammar raises
         :class:`~gaitgram.ge.representation.GenomeError`."""
         tables, ops, start, limit = self.tables, self.tables.ops, self.tables.start, self.settings.max_depth
+        names, choices = tables.base.close_names, self.choices
         results = []
         for genome in genomes:
-            out, nodes, depth, reason, marks = decode_sequence(ops, start, genome, limit)
+            out, nodes, depth, reason, texts = decode_sequence(ops, start, genome, limit, names)
             if reason is None and nodes < len(genome):
                 raise GenomeError(
                     f"the tree ends after {nodes} nodes; {len(genome) - nodes} value(s) left over"
                 )
-            results.append(result(tables, out, depth, nodes, nodes, reason, marks))
+            results.append(result(tables, out, depth, nodes, nodes, reason, texts, choices, genome))
         return results
 
     def choices(self, genome: Tree) -> list[int]:

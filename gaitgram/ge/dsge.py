@@ -146,13 +146,14 @@ class DSGE:
 
     def map_many(self, genomes: Sequence[Genes]) -> list[MappedGenome]:
         tables, ops, start, rules = self.tables, self.tables.ops, self.tables.start, len(self.genes)
+        names, choices = tables.base.close_names, self.choices
         results = []
         for genome in genomes:
             if len(genome) != rules:
                 check_genes(genome, self.genes)  # raises, saying how many genes there should be
-            out, read, depth, reason, marks = decode_genes(ops, start, genome, UNLIMITED)
+            out, read, depth, reason, texts = decode_genes(ops, start, genome, UNLIMITED, names)
             nodes = sum(read)
-            results.append(result(tables, out, depth, nodes, nodes, reason, marks))
+            results.append(result(tables, out, depth, nodes, nodes, reason, texts, choices, genome))
         return results
 
     def choices(self, genome: Genes) -> list[int]:
@@ -179,7 +180,9 @@ class DSGE:
 
     def used_per_gene(self, genome: Genes) -> tuple[list[int], int, bool]:
         """How many values of each gene the mapping reads, the tree's depth, and whether it is complete."""
-        _, read, depth, reason, _ = decode_genes(self.tables.ops, self.tables.start, genome, UNLIMITED)
+        _, read, depth, reason, _ = decode_genes(
+            self.tables.ops, self.tables.start, genome, UNLIMITED, self.tables.base.close_names
+        )
         return read, depth, reason is None
 
     # ---- genes that grow ------------------------------------------------------------------

@@ -30,7 +30,7 @@ every piece. ``map_many`` maps a whole batch in one loop, set up once.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
 from operator import length_hint
@@ -230,27 +230,17 @@ class Mapper:
         self._joint_order: tuple[str, ...] = tuple(j for j in (joints or {}) if j in named)
         #: The joint rules, numbered as their markers number them.
         self.joint_list: tuple[int, ...] = tuple(self.joint_rules)
-        #: When no derivation holds a joint rule twice: each joint name, in order, with its rule's
-        #: opening and closing markers (each met once at most: the fast cut); else empty.
-        self.joint_markers: tuple[tuple[str, int, int], ...] = ()
-        if self.joint_list:
-            productive = tuple(d is not None for d in min_depths(cfg)[0])
-            occurrences = Occurrences(cfg, productive)
-            if all(occurrences.bounds(r)[1] <= 1 for r in self.joint_list):
-                number = {name: self.joint_list.index(r) for r, names in by_rule.items() for name in names}
-                self.joint_markers = tuple(
-                    (name, _OPEN - 2 * number[name], _OPEN - 2 * number[name] - 1)
-                    for name in self._joint_order
-                )
-
-        #: The fast loops' naming of a joint's text: its rule's closing marker -> its (one) name. Where
-        #: a joint rule can occur twice or carries several names, the texts come from the tree.
-        self._close_names: dict[int, str] = {
+        #: The fast loops' naming of a joint's text (GE's and the other representations'): its rule's
+        #: closing marker -> its (first) name.
+        self.close_names: dict[int, str] = {
             _OPEN - 2 * k - 1: names[0] for k, names in enumerate(self.joint_rules.values())
         }
-        self._joints_by_tree = bool(self.joint_list) and (
-            not self.joint_markers or any(len(names) > 1 for names in self.joint_rules.values())
-        )
+        # Where a joint rule can occur twice in a derivation (or carries several names: rare
+        # grammars), the loops' texts do not tell which occurrence came first: the tree does.
+        self._joints_by_tree = any(len(names) > 1 for names in self.joint_rules.values())
+        if self.joint_list and not self._joints_by_tree:
+            occurrences = Occurrences(cfg, tuple(d is not None for d in min_depths(cfg)[0]))
+            self._joints_by_tree = any(occurrences.bounds(r)[1] > 1 for r in self.joint_list)
         #: The joints' order when the loops' texts can be taken as they are (in that order); None
         #: where they come from the tree (a repeated rule's later text may stand under its name).
         self._loop_order: tuple[str, ...] | None = None if self._joints_by_tree else self._joint_order
@@ -329,10 +319,21 @@ class Mapper:
             return self.map(genome).joints
         return {name: texts[name] for name in self._joint_order if name in texts}
 
+    def joints_in_order(
+        self, texts: dict[str, str], choices: Callable[[Any], Sequence[int]], genome: Any
+    ) -> dict[str, str]:
+        """:meth:`_joints` for another representation's decoding loop (the same markers, named by
+        :attr:`close_names`): ``choices(genome)`` gives the derivation's choices in pre-order,
+        which this (eager) mapper maps to the same tree; asked only where the texts come from the
+        tree."""
+        if not texts or tuple(texts) == self._loop_order:
+            return texts
+        return self._joints(texts, choices(genome) if self._joints_by_tree else ())
+
     def _many_eager(self, genomes: Iterable[Sequence[int]]) -> list[Mapped]:
         ks, ops, stops, start, allowed = self._k, self._ops, self.stops, self.start, self._passes
         passes_range = range(allowed)
-        joint_name, order, ordered = self._close_names, self._loop_order, self._joints
+        joint_name, order, ordered = self.close_names, self._loop_order, self._joints
         new, invalid, join, remaining = tuple.__new__, InvalidReason.CODONS, "".join, length_hint
         results: list[Mapped] = []
         keep = results.append
@@ -407,7 +408,7 @@ class Mapper:
         ks, ops, unit_ops, stops, start = self._k, self._ops, self._unit_ops, self.stops, self.start
         allowed = self._passes
         passes_range = range(allowed)
-        joint_name, order, ordered = self._close_names, self._loop_order, self._joints
+        joint_name, order, ordered = self.close_names, self._loop_order, self._joints
         new, invalid, join, remaining = tuple.__new__, InvalidReason.CODONS, "".join, length_hint
         results: list[Mapped] = []
         keep = results.append
@@ -539,7 +540,7 @@ class Mapper:
         g = codons * self._prefetch if codons.__class__ is list else list(codons) * self._prefetch
         out: list[str] = []
         append = out.append
-        joint_name = self._close_names
+        joint_name = self.close_names
         texts: dict[str, str] = {}
         starts: list[int] = []
         stack: list[Any] = [_DONE]
@@ -592,33 +593,6 @@ class Mapper:
                 g.extend(codons)
             except ZeroDivisionError:
                 return out, used, stops[item], texts
-
-    def joints_from_marks(self, out: list[str], marks: list[int]) -> dict[str, str]:
-        """Each joint's phenotype, from the markers a fast loop met (each followed by the
-        output's length then): the text between its rule's first opening and the matching close
-        (nested occurrences of the same rule are inside it)."""
-        if self.joint_markers:  # each marker met once at most: where each one is, in one pass in C
-            pairs = iter(marks)
-            where = dict(zip(pairs, pairs, strict=True))
-            return {
-                name: "".join(out[where[o] : where[c]]) for name, o, c in self.joint_markers if o in where
-            }
-        opened: dict[int, int] = {}
-        nesting: dict[int, int] = {}
-        texts: dict[int, str] = {}
-        for j in range(0, len(marks), 2):
-            code = _OPEN - marks[j]
-            joint, closing = code >> 1, code & 1
-            if joint in texts:
-                continue
-            if not closing:
-                opened.setdefault(joint, marks[j + 1])
-                nesting[joint] = nesting.get(joint, 0) + 1
-            else:
-                nesting[joint] -= 1
-                if not nesting[joint]:
-                    texts[joint] = "".join(out[opened[joint] : marks[j + 1]])
-        return self._name_joints({self.joint_list[k]: text for k, text in texts.items()})
 
     def _name_joints(self, texts: dict[int, str]) -> dict[str, str]:
         by_joint = {name: texts[r] for r, names in self.joint_rules.items() if r in texts for name in names}

@@ -18,7 +18,7 @@ Depth is counted as everywhere in gaitgram: the root rule node has depth 1, term
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from operator import length_hint
 from typing import Any, NamedTuple, Protocol, TypeVar
@@ -122,10 +122,13 @@ class GrammarTables:
         joint = self.joint_rules.index(rule) if rule in self.joint_rules else None
         return make_op(items, joint)
 
-    def joints_of(self, out: list[str], marks: list[int]) -> dict[str, str]:
-        """Each joint's phenotype, from the markers :func:`decode_genes` and :func:`decode_sequence`
-        record, as the GE mapper's fast loops record them (:meth:`Mapper.joints_from_marks`)."""
-        return self.base.joints_from_marks(out, marks)
+    def joints_of(
+        self, texts: dict[str, str], choices: Callable[[Any], Sequence[int]], genome: Any
+    ) -> dict[str, str]:
+        """A valid derivation's joints, from the texts :func:`decode_genes` and :func:`decode_sequence`
+        join at each joint's closing marker, as the GE mapper's loops do
+        (:meth:`Mapper.joints_in_order`; ``choices(genome)``: the derivation's choices in pre-order)."""
+        return self.base.joints_in_order(texts, choices, genome)
 
 
 def make_op(items: tuple[Item, ...], joint: int | None) -> Any:
@@ -135,7 +138,8 @@ def make_op(items: tuple[Item, ...], joint: int | None) -> Any:
     * a *leaf* (no rule among the items), not of a joint rule: its text, a ``str``;
     * otherwise ``(lead, head, rest)``: emit the leading terminals, continue with the first rule
       (saving a push and a pop), push the rest reversed. A joint rule's items go between markers,
-      ints the loops record with the output's length, so its text is cut out afterwards.
+      ints: the loops record the output's length at the first and join the joint's text at the
+      second.
     """
     if joint is not None:
         return joint_op(joint, items)
@@ -174,16 +178,21 @@ def grammar_tables(source: Grammar | Cfg, joints: Mapping[str, str] | None = Non
 
 
 def decode_genes(
-    ops: Sequence[Any], start: int, genes: Sequence[Sequence[int]], max_depth: int
-) -> tuple[list[str], list[int], int, InvalidReason | None, list[int]]:
+    ops: Sequence[Any],
+    start: int,
+    genes: Sequence[Sequence[int]],
+    max_depth: int,
+    names: Mapping[int, str],
+) -> tuple[list[str], list[int], int, InvalidReason | None, dict[str, str]]:
     """Expand from ``start`` depth-first, leftmost rule first, each rule ``r`` taking as its choice
     the next value of ``genes[r]`` (SGE and DSGE: a gene per rule, each read with its own cursor).
 
     Returns the output pieces, the values read from each gene (their sum: the rule nodes
     expanded), the depth reached, why the derivation stopped early (None: it is complete;
     ``codons`` when a gene runs out, ``depth`` past ``max_depth``, ``undefined`` at a rule with no
-    choices) and the joint markers met, each with the output's length then. A value that names no
-    choice raises :class:`GenomeError`.
+    choices) and the joints' texts, by name (``names``: the GE mapper's ``close_names``), joined
+    where each joint's closing marker is met. A value that names no choice raises
+    :class:`GenomeError`.
 
     The loop is the GE mapper's depth-tracking fast loop (``_run_depth``), with the codon
     arithmetic replaced by the gene cursors: an expansion emits its leading terminals, pushes a
@@ -193,8 +202,9 @@ def decode_genes(
     """
     out: list[str] = []
     append = out.append
-    marks: list[int] = []
-    mark = marks.extend
+    texts: dict[str, str] = {}  # each joint's text, joined at its closing marker, by name
+    starts: list[int] = []  # the output's length at each open joint's marker
+    mark, unmark, join = starts.append, starts.pop, "".join
     stack: list[Any] = [_DONE]
     pop, push, extend = stack.pop, stack.append, stack.extend
     read = [0] * len(genes)
@@ -209,7 +219,7 @@ def decode_genes(
                 if depth >= deepest:
                     deepest = depth + 1
                     if deepest > max_depth:
-                        return out, read, deepest, InvalidReason.DEPTH, marks
+                        return out, read, deepest, InvalidReason.DEPTH, texts
                 append(op)
             else:
                 lead, head, rest = op
@@ -217,7 +227,7 @@ def decode_genes(
                 if depth > deepest:
                     deepest = depth
                     if depth > max_depth:
-                        return out, read, deepest, InvalidReason.DEPTH, marks
+                        return out, read, deepest, InvalidReason.DEPTH, texts
                 if lead:
                     append(lead)
                 push(_UP)
@@ -236,15 +246,17 @@ def decode_genes(
                 if item == _UP:
                     depth -= 1
                 elif item == _DONE:
-                    return out, read, deepest, None, marks
-                else:  # a joint's marker
-                    mark((item, len(out)))
+                    return out, read, deepest, None, texts
+                elif item & 1:  # a joint's opening marker
+                    mark(len(out))
+                else:
+                    texts[names[item]] = join(out[unmark() :])
                 item = pop()
     except IndexError:
         if not ops[item]:
-            return out, read, deepest, InvalidReason.UNDEFINED, marks
+            return out, read, deepest, InvalidReason.UNDEFINED, texts
         if read[item] >= len(genes[item]):
-            return out, read, deepest, InvalidReason.CODONS, marks
+            return out, read, deepest, InvalidReason.CODONS, texts
         raise GenomeError(
             f"value {read[item]} of gene {item}, {genes[item][read[item]]}, is no choice of its rule "
             f"(it has {len(ops[item])})"
@@ -252,15 +264,16 @@ def decode_genes(
 
 
 def decode_sequence(
-    ops: Sequence[Any], start: int, sequence: Sequence[int], max_depth: int
-) -> tuple[list[str], int, int, InvalidReason | None, list[int]]:
+    ops: Sequence[Any], start: int, sequence: Sequence[int], max_depth: int, names: Mapping[int, str]
+) -> tuple[list[str], int, int, InvalidReason | None, dict[str, str]]:
     """As :func:`decode_genes`, the choices read in order from one sequence (a tree's choices in
     pre-order: CFG-GP). Returns the pieces, the values read (the rule nodes), the depth, why it
-    stopped early (``codons``: the sequence ran out) and the joint markers."""
+    stopped early (``codons``: the sequence ran out) and the joints' texts."""
     out: list[str] = []
     append = out.append
-    marks: list[int] = []
-    mark = marks.extend
+    texts: dict[str, str] = {}  # each joint's text, joined at its closing marker, by name
+    starts: list[int] = []  # the output's length at each open joint's marker
+    mark, unmark, join = starts.append, starts.pop, "".join
     stack: list[Any] = [_DONE]
     pop, push, extend = stack.pop, stack.append, stack.extend
     depth = deepest = 0
@@ -275,7 +288,7 @@ def decode_sequence(
                 if depth >= deepest:
                     deepest = depth + 1
                     if deepest > max_depth:
-                        return out, n - length_hint(values), deepest, InvalidReason.DEPTH, marks
+                        return out, n - length_hint(values), deepest, InvalidReason.DEPTH, texts
                 append(op)
             else:
                 lead, head, rest = op
@@ -283,7 +296,7 @@ def decode_sequence(
                 if depth > deepest:
                     deepest = depth
                     if depth > max_depth:
-                        return out, n - length_hint(values), deepest, InvalidReason.DEPTH, marks
+                        return out, n - length_hint(values), deepest, InvalidReason.DEPTH, texts
                 if lead:
                     append(lead)
                 push(_UP)
@@ -302,18 +315,20 @@ def decode_sequence(
                 if item == _UP:
                     depth -= 1
                 elif item == _DONE:
-                    return out, n - length_hint(values), deepest, None, marks
-                else:  # a joint's marker
-                    mark((item, len(out)))
+                    return out, n - length_hint(values), deepest, None, texts
+                elif item & 1:  # a joint's opening marker
+                    mark(len(out))
+                else:
+                    texts[names[item]] = join(out[unmark() :])
                 item = pop()
     except IndexError:
         if not ops[item]:
-            return out, n - length_hint(values) - 1, deepest, InvalidReason.UNDEFINED, marks
+            return out, n - length_hint(values) - 1, deepest, InvalidReason.UNDEFINED, texts
         raise GenomeError(
             f"value {n - length_hint(values) - 1} of the sequence is no choice of its rule "
             f"(it has {len(ops[item])})"
         ) from None
-    return out, n, deepest, InvalidReason.CODONS, marks
+    return out, n, deepest, InvalidReason.CODONS, texts
 
 
 def result(
@@ -323,12 +338,15 @@ def result(
     nodes: int,
     used: int,
     reason: InvalidReason | None,
-    marks: list[int],
+    texts: dict[str, str],
+    choices: Callable[[Any], Sequence[int]],
+    genome: Any,
 ) -> MappedGenome:
-    """What a decoding loop returned, as a :class:`MappedGenome`."""
+    """What a decoding loop returned, as a :class:`MappedGenome` (``choices(genome)``: the
+    derivation's choices in pre-order, asked only for a grammar whose joints come from the tree)."""
     if reason is not None:
         return MappedGenome(None, {}, depth, nodes, used, reason)
-    return MappedGenome("".join(out), tables.joints_of(out, marks) if marks else {}, depth, nodes, used, None)
+    return MappedGenome("".join(out), tables.joints_of(texts, choices, genome), depth, nodes, used, None)
 
 
 # ---- derivation trees in pre-order ------------------------------------------------------------

@@ -318,14 +318,15 @@ class SGE:
             self._limit,
             self._inlined,
         )
-        genes = len(self.genes)
+        genes, names, choices = len(self.genes), self.tables.base.close_names, self.choices
         results = []
         for genome in genomes:
             if len(genome) != genes:
                 check_genes(genome, self.genes)  # raises, saying how many genes there should be
-            out, read, depth, reason, marks = decode_genes(ops, start, genome + inlined, limit)
+            out, read, depth, reason, texts = decode_genes(ops, start, genome + inlined, limit, names)
             nodes = sum(read)
-            results.append(result(tables, out, depth, nodes, nodes - sum(read[genes:]), reason, marks))
+            used = nodes - sum(read[genes:])
+            results.append(result(tables, out, depth, nodes, used, reason, texts, choices, genome))
         return results
 
     def choices(self, genome: Genes) -> list[int]:
@@ -366,7 +367,9 @@ class SGE:
 
     def used_per_gene(self, genome: Genes) -> list[int]:
         """How many values of each gene the mapping reads (the reference's ``mapping_values``)."""
-        read = decode_genes(self._ops, self.tables.start, genome + self._inlined, UNLIMITED)[1]
+        read = decode_genes(
+            self._ops, self.tables.start, genome + self._inlined, UNLIMITED, self.tables.base.close_names
+        )[1]
         return read[: len(self.genes)]
 
     # ---- initialisation and variation ----------------------------------------------------------
