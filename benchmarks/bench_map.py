@@ -17,9 +17,11 @@
    ``GAITGRAM_PONYGE2_PYTHON``); without it this part says so and is skipped.
 
 Times in 2 and 3 are CPU seconds, the best of five rounds of at least 50 ms each, so that load on
-a shared machine counts little. Measured 2026-11-30 on the loaded 2-core machine (docs/ge.md, GE's
-speed): joints 1.30x slower than the export on hybrid.gg, 1.72x at worst (concatenating.gg);
-against PonyGE2 3.0x (concatenating.gg) to 6.3x (concat.bnf). Neither target is met yet.
+a shared machine counts little; each grammar's PonyGE2 run is timed between two of gaitgram's, and
+the joints and export rounds alternate, the better of each kept. Measured 2026-11-29 on the loaded
+2-core machine (docs/ge.md, GE's speed): joints 1.23x slower than the export on hybrid.gg, 1.16x at
+best (hybrid-feedback.gg), 1.49x at worst (concatenating.gg); against PonyGE2 3.4x (joint-freedom.gg,
+concatenating.gg) to 5.7x (supervised_learning.bnf), letter.bnf 4.9x. Neither target is met.
 """
 
 from __future__ import annotations
