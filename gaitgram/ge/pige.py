@@ -293,11 +293,14 @@ class PiGE:
         """Each genome's phenotype: the expansion phase, then each node's text made from its
         children's, in the reverse order of expansion (children are expanded after their parent)."""
         results = []
+        new = tuple.__new__  # a MappedGenome without the NamedTuple's __new__, a Python call
         for genome in genomes:
             expansion = self.expand(genome)
             used = expansion.used
             if expansion.reason is not None:
-                results.append(MappedGenome(None, {}, expansion.depth, used // 2, used, expansion.reason))
+                results.append(
+                    new(MappedGenome, (None, {}, expansion.depth, used // 2, used, expansion.reason))
+                )
                 continue
             texts = expansion.nodes
             for node, m, fill, first in reversed(expansion.log):
@@ -305,7 +308,7 @@ class PiGE:
                     fill[0] + texts[first] + fill[1] if m == 1 else fill % tuple(texts[first : first + m])
                 )
             joints = self._joints(expansion) if expansion.joints else {}
-            results.append(MappedGenome(texts[0], joints, expansion.depth, used // 2, used, None))
+            results.append(new(MappedGenome, (texts[0], joints, expansion.depth, used // 2, used, None)))
         return results
 
     def _joints(self, expansion: Expansion) -> dict[str, str]:
