@@ -139,7 +139,8 @@ class CFGGP:
                 raise GenomeError(
                     f"the tree ends after {nodes} nodes; {len(genome) - nodes} value(s) left over"
                 )
-            results.append(result(tables, out, depth, nodes, nodes, reason, texts, choices, genome))
+            phenotype = "".join(out) if reason is None else None
+            results.append(result(tables, phenotype, depth, nodes, nodes, reason, texts, choices, genome))
         return results
 
     def choices(self, genome: Tree) -> list[int]:

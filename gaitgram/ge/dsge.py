@@ -49,6 +49,7 @@ from gaitgram.ge.representation import (
     check_choices,
     check_genes,
     decode_genes,
+    decode_many_genes,
     format_genes,
     grammar_tables,
     json_genes,
@@ -147,13 +148,14 @@ class DSGE:
     def map_many(self, genomes: Sequence[Genes]) -> list[MappedGenome]:
         tables, ops, start, rules = self.tables, self.tables.ops, self.tables.start, len(self.genes)
         names, choices = tables.base.close_names, self.choices
+        # Each genome checked as the decoding reaches it (check_genes raises, saying how many genes
+        # there should be), so that a batch's first bad genome is the one named.
+        checked = (g if len(g) == rules else check_genes(g, self.genes) for g in genomes)
         results = []
-        for genome in genomes:
-            if len(genome) != rules:
-                check_genes(genome, self.genes)  # raises, saying how many genes there should be
-            out, read, depth, reason, texts = decode_genes(ops, start, genome, UNLIMITED, names)
+        decoded = decode_many_genes(ops, start, checked, UNLIMITED, names)
+        for genome, (phenotype, read, depth, reason, texts) in zip(genomes, decoded, strict=True):
             nodes = sum(read)
-            results.append(result(tables, out, depth, nodes, nodes, reason, texts, choices, genome))
+            results.append(result(tables, phenotype, depth, nodes, nodes, reason, texts, choices, genome))
         return results
 
     def choices(self, genome: Genes) -> list[int]:

@@ -54,6 +54,7 @@ from gaitgram.ge.representation import (
     check_choices,
     check_genes,
     decode_genes,
+    decode_many_genes,
     format_genes,
     grammar_tables,
     json_genes,
@@ -319,14 +320,15 @@ class SGE:
             self._inlined,
         )
         genes, names, choices = len(self.genes), self.tables.base.close_names, self.choices
+        # Each genome checked as the decoding reaches it (check_genes raises, saying how many genes
+        # there should be), so that a batch's first bad genome is the one named.
+        laid_out = ((g if len(g) == genes else check_genes(g, self.genes)) + inlined for g in genomes)
         results = []
-        for genome in genomes:
-            if len(genome) != genes:
-                check_genes(genome, self.genes)  # raises, saying how many genes there should be
-            out, read, depth, reason, texts = decode_genes(ops, start, genome + inlined, limit, names)
+        decoded = decode_many_genes(ops, start, laid_out, limit, names)
+        for genome, (phenotype, read, depth, reason, texts) in zip(genomes, decoded, strict=True):
             nodes = sum(read)
             used = nodes - sum(read[genes:])
-            results.append(result(tables, out, depth, nodes, used, reason, texts, choices, genome))
+            results.append(result(tables, phenotype, depth, nodes, used, reason, texts, choices, genome))
         return results
 
     def choices(self, genome: Genes) -> list[int]:
