@@ -137,7 +137,7 @@ def csv_text(report: StudyReport) -> str:
     """``summary.csv``: the summary, raw numbers, one row per arm; each arm's representation after
     its strategy when not every arm is GE (a GE-only report's file is as it always was)."""
     named = names_representations(report.summaries)
-    header = _SUMMARY_CSV[:2] + ("representation",) + _SUMMARY_CSV[2:] if named else _SUMMARY_CSV
+    header = (*_SUMMARY_CSV[:2], "representation", *_SUMMARY_CSV[2:]) if named else _SUMMARY_CSV
     return _csv(
         header,
         [
