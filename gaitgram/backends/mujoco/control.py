@@ -192,25 +192,22 @@ class Oscillators:
         step: int,
         sensordata: NDArray[np.float64],
         frequencies: NDArray[np.float64],
-    ) -> NDArray[np.bool_] | None:
+    ) -> None:
         """Take in the hooves' contacts at ``step`` (the state the tick starts from, [ids, ...]):
-        a landing restarts its limb's phase at this step. Returns which of ``ids`` (positions)
-        landed a hoof, None if none did."""
+        a landing restarts its limb's phase at this step."""
         elapsed = (step - self._last_step) * self.actuation.timestep
         self._last_step = step
         down = sensordata[:, self.touch_columns] > self.above  # [ids, limbs]
         was_up = self.airborne[ids] > 0  # seen up at the last tick (a hoof down reads 0)
         airborne = np.where(was_up | ~down, self.airborne[ids] + elapsed, 0.0)
         landed = down & was_up & (airborne >= self.airborne_needed)
-        any_landed = bool(landed.any())
-        if any_landed:
+        if landed.any():
             # The limb's unwrapped clock at this step, as :meth:`Actuation.clock` computes it.
             clock = step * self.actuation.timestep * frequencies[:, None] - self.limb_offsets[None, :]
             shift = self.shift[ids]
             shift[landed] = -clock[landed]
             self.shift[ids] = shift
         self.airborne[ids] = np.where(down, 0.0, airborne)
-        return landed.any(axis=1) if any_landed else None
 
     def member_phases(
         self, gaits: NDArray[np.intp], limbs: NDArray[np.intp], clock: NDArray[np.float64]
