@@ -56,7 +56,10 @@ def _reference(evaluator: HorseEvaluator, batch: MotionBatch, gait: int, states,
         phases = {"t": np.mod(clock, 1.0)}
         if loop.oscillators is not None:
             loop.oscillators.tick(ids, first, sensed, loop.frequencies)
-            phases["phase"] = loop.oscillators.phases(ids, clock)
+            # A limb's clock moved by its last landing, wrapped into [0, 1) (none for a limbless actuator).
+            limb = act.limb_index
+            shift = np.where(limb >= 0, loop.oscillators.shift[0][np.maximum(limb, 0)], 0.0)
+            phases["phase"] = np.mod(clock + shift, 1.0)
         for curve, closed in enumerate(loops):
             if closed is None:
                 continue
