@@ -25,6 +25,7 @@ from __future__ import annotations
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -35,7 +36,7 @@ from gaitgram.motion.parser import Node, NodeKind, Syntax
 from gaitgram.motion.results import MotionError, MotionStatus
 from gaitgram.motion.vocabulary import BINARY_UFUNCS, CONSTANTS, FUNCTIONS, VARIABLE, phase_grid
 
-__all__ = ["ClosedLoop", "Slot", "closed_loop", "run_skeleton"]
+__all__ = ["ClosedLoop", "Program", "Slot", "closed_loop", "run_program", "run_skeleton", "skeleton_program"]
 
 #: A skeleton step: ``("slot", index, phase variable)``, ``("const", index)``,
 #: ``("sensor", name)``, ``("unary", ufunc name)`` or ``("binary", operator)``.
@@ -208,7 +209,7 @@ def _slot(text: str, nodes: Sequence[Node], variable: str, n_samples: int) -> Sl
 
 
 def run_skeleton(
-    skeleton: Sequence[Step],
+    skeleton: tuple[Step, ...],
     constants: NDArray[np.float64],
     slot_values: Sequence[NDArray[np.float64]],
     sensors: Mapping[str, NDArray[np.float64]],
@@ -218,21 +219,56 @@ def run_skeleton(
     actuators] and [gaits, 1, actuators], say). NaN and inf are results, not errors."""
     extra = max((v.ndim for v in (*slot_values, *sensors.values())), default=1) - 1
     column = (len(constants),) + (1,) * extra  # a constant's shape: one value per gait
+    columns = [constants[:, k].reshape(column) for k in range(constants.shape[1])]
+    return run_program(skeleton_program(skeleton), columns, slot_values, sensors)
+
+
+#: A skeleton's steps with what each reads or applies looked up once (:func:`skeleton_program`).
+Program = tuple[tuple[int, Any], ...]
+_SLOT, _CONSTANT, _SENSOR, _BINARY_OP, _UNARY_OP = range(5)
+
+
+@lru_cache(maxsize=4096)
+def skeleton_program(skeleton: tuple[Step, ...]) -> Program:
+    """``skeleton`` as :func:`run_program` runs it: per step a code and its slot or constant index,
+    its sensor's name, or its ufunc; a control loop runs it at every tick."""
+    program: list[tuple[int, Any]] = []
+    for step in skeleton:
+        what = step[0]
+        if what == "slot":
+            program.append((_SLOT, step[1]))
+        elif what == "const":
+            program.append((_CONSTANT, step[1]))
+        elif what == "sensor":
+            program.append((_SENSOR, step[1]))
+        elif what == "binary":
+            program.append((_BINARY_OP, BINARY_UFUNCS[step[1]]))  # type: ignore[index]
+        else:
+            program.append((_UNARY_OP, np.negative if step[1] == "negative" else FUNCTIONS[step[1]].ufunc))  # type: ignore[index]
+    return tuple(program)
+
+
+def run_program(
+    program: Program,
+    constants: Sequence[NDArray[np.float64]],
+    slot_values: Sequence[NDArray[np.float64]],
+    sensors: Mapping[str, NDArray[np.float64]],
+) -> NDArray[np.float64]:
+    """As :func:`run_skeleton`, with each constant already a column that broadcasts against the
+    slots and sensors ([gaits, 1, 1], say): what a control loop keeps between ticks."""
     stack: list[NDArray[np.float64]] = []
     with np.errstate(all="ignore"):
-        for step in skeleton:
-            what = step[0]
-            if what == "slot":
-                stack.append(slot_values[step[1]])  # type: ignore[index]
-            elif what == "const":
-                stack.append(constants[:, step[1]].reshape(column))  # type: ignore[index]
-            elif what == "sensor":
-                stack.append(sensors[step[1]])  # type: ignore[index]
-            elif what == "binary":
+        for code, arg in program:
+            if code == _BINARY_OP:
                 right = stack.pop()
-                stack[-1] = BINARY_UFUNCS[step[1]](stack[-1], right)  # type: ignore[index]
+                stack[-1] = arg(stack[-1], right)
+            elif code == _SLOT:
+                stack.append(slot_values[arg])
+            elif code == _CONSTANT:
+                stack.append(constants[arg])
+            elif code == _SENSOR:
+                stack.append(sensors[arg])
             else:
-                ufunc = np.negative if step[1] == "negative" else FUNCTIONS[step[1]].ufunc  # type: ignore[index]
-                stack[-1] = ufunc(stack[-1])
+                stack[-1] = arg(stack[-1])
     (result,) = stack
     return result

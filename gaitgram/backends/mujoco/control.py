@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from gaitgram.backends.mujoco.sensing import Sensing
 from gaitgram.motion.feedback import ClosedLoop as Loop
-from gaitgram.motion.feedback import run_skeleton
+from gaitgram.motion.feedback import Program, run_program, skeleton_program
 from gaitgram.motion.gait import MotionBatch
 
 __all__ = ["Actuation", "ClosedLoop", "OpenLoop", "Oscillators"]
@@ -64,7 +64,9 @@ class Actuation:
         """Curve values (radians) [gaits, steps, nu] of steps ``first..last-1`` as controls, in
         place: blended in over the ramp (``ramp``: :meth:`ramp`'s, computed ahead), around the
         neutral targets, within the control range."""
-        values *= (self.ramp(first, last) if ramp is None else ramp)[None, :, None]
+        ramp = self.ramp(first, last) if ramp is None else ramp
+        if not (ramp.size and ramp[0] >= 1.0):  # it never falls: from 1 on, x * 1.0 is x, bit for bit
+            values *= ramp[None, :, None]
         values += self.neutral[None, None, :]
         np.clip(values, self.low[None, None, :], self.high[None, None, :], out=values)
         return values
@@ -294,6 +296,7 @@ class _Group:
     constants: NDArray[np.float64]  # [members, k]
     slots: tuple[_Samples, ...]
     sensors: frozenset[str]  # the held sensors its skeleton reads
+    program: Program  # the skeleton as it runs
 
 
 @dataclass(frozen=True, eq=False)
@@ -306,18 +309,25 @@ class _Placed:
     rows: NDArray[np.intp]  # [members, 1]: each one's position in ``ids``
     actuators: NDArray[np.intp]  # [members, width]
     limbs: NDArray[np.intp]  # [members, width]: the limb of each actuator (a per-limb sensor's column)
-    constants: NDArray[np.float64]
+    constants: tuple[NDArray[np.float64], ...]  # each constant as a column [members, 1, 1]
     slots: tuple[_Samples, ...]
     columns: NDArray[np.intp]  # [members, width]: the phase column of each actuator
-    #: Per tick length: each member's flat share [members, steps, width] of [ids, steps, columns].
-    shares: dict[int, NDArray[np.intp]] = field(default_factory=dict)
+    #: Flat indices [members, steps, width] of :meth:`share` and :meth:`targets`, per tick length.
+    flat: dict[tuple[str, int], NDArray[np.intp]] = field(default_factory=dict)
 
     def share(self, steps: int, count: int) -> NDArray[np.intp]:
         """Flat indices of each member's actuators' phase columns in arrays [ids, steps, count]."""
-        where = self.shares.get(steps)
+        return self._flat("share", steps, count, self.columns)
+
+    def targets(self, steps: int, nu: int) -> NDArray[np.intp]:
+        """Flat indices of each member's actuators in controls [ids, steps, nu]."""
+        return self._flat("targets", steps, nu, self.actuators)
+
+    def _flat(self, what: str, steps: int, count: int, columns: NDArray[np.intp]) -> NDArray[np.intp]:
+        where = self.flat.get((what, steps))
         if where is None:
             where = (self.rows[:, :, None] * steps + np.arange(steps)[None, :, None]) * count
-            where = self.shares[steps] = where + self.columns[:, None, :]
+            where = self.flat[what, steps] = where + columns[:, None, :]
         return where
 
 
@@ -426,6 +436,7 @@ class ClosedLoop:
                     constants.reshape(len(pairs), -1),
                     slots,
                     frozenset(step[1] for step in skeleton if step[0] == "sensor"),
+                    skeleton_program(skeleton),
                 )
             )
         return groups
@@ -449,7 +460,7 @@ class ClosedLoop:
                     rows[members][:, None],
                     acts,
                     limb[acts],
-                    group.constants[members],
+                    tuple(column[:, None, None] for column in group.constants[members].T),
                     tuple(slot.take(members) for slot in group.slots),
                     self._phase_column[acts],
                 )
@@ -514,7 +525,7 @@ class ClosedLoop:
         if block is None or not block.first <= first < last <= block.last:
             block = self._block = self._ahead(ids, first)
         steps = slice(first - block.first, last - block.first)
-        values = block.values[:, steps].copy()
+        values = block.values[:, steps].copy()  # C order: its flat view takes the loops' results
         readings = self.sensing.read(state, sensordata) if self.sensing is not None else {}
         # The phase columns' sample positions as this tick's landings left them, per slot length.
         positions: dict[int, tuple[NDArray[np.intp], NDArray[np.float64]]] = {}
@@ -535,7 +546,7 @@ class ClosedLoop:
                     positions[n] = _positions(phases, n)
                 where = placed.share(last - first, len(self._phase_limbs))
                 slot_values.append(slot.at_positions(*positions[n], where))
-            result = run_skeleton(group.skeleton, placed.constants, slot_values, held)
+            result = run_program(group.program, placed.constants, slot_values, held)
             shape = (len(placed.members), last - first, placed.actuators.shape[1])
             if result.shape != shape:  # a skeleton of held sensors alone: one value per tick
                 result = np.broadcast_to(result, shape)
@@ -547,7 +558,7 @@ class ClosedLoop:
                     row, curve = int(placed.rows[member, 0]), int(group.curves[placed.members[member]])
                     failed[row] = min(curve, failed.get(row, curve))
                 result = np.where(finite, result, 0.0)
-            values[placed.rows, :, placed.actuators] = np.radians(result).transpose(0, 2, 1)
+            values.reshape(-1)[placed.targets(last - first, self.actuation.nu)] = np.radians(result)
         failures: Failures = {row: self.actuation.curves[curve] for row, curve in failed.items()}
         return self.actuation.finish(values, first, last, block.ramp[steps]), failures
 
