@@ -108,7 +108,7 @@ def assess_arm(
             "backend": pipeline.backend,
             "backend_version": version,
             "generation": state.generation,
-            "genome": [int(c) for c in best.genome],
+            "genome": pipeline.representation.to_json(best.genome),
             "fitness": float(best.fitness),
         }
         if not force and _kept(assessment_path(path, run), record):
@@ -124,7 +124,8 @@ def assess_arm(
         also = " and its best walk" if wanted[-1][0] < 0 else ""
         progress(f"measuring the best gaits of {runs} run(s){also} of {path}")
     batch = pipeline.motion(
-        pipeline.map([tuple(r["genome"]) for _, r in wanted]), pipeline.config.generations
+        pipeline.map([pipeline.representation.from_json(r["genome"]) for _, r in wanted]),
+        pipeline.config.generations,
     )
     measured = measure(dict(pipeline.config.backend_settings), batch, pipeline.spec)
     written = []
@@ -149,7 +150,7 @@ def _best_walk(directory: RunDirectory, version: str, runs: range) -> dict[str, 
         "backend": directory.pipeline.backend,
         "backend_version": version,
         "generation": walk.generation,
-        "genome": [int(c) for c in walk.genome],
+        "genome": directory.pipeline.representation.to_json(walk.genome),
         "fitness": float(walk.evaluation.fitness),
         "run": walk.run,
     }

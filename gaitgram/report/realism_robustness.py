@@ -254,14 +254,12 @@ def _assessed(
     fitness = kept.get("fitness")
     if not _number(fitness):
         raise damaged("fitness: not a number")
-    genome = kept.get("genome")
-    if not isinstance(genome, list) or not all(
-        isinstance(c, int) and not isinstance(c, bool) for c in genome
-    ):
-        raise damaged("genome: not a list of codons")
+    genome = _genome(kept.get("genome"))
+    if genome is None:
+        raise damaged("genome: not a genome (a list of codons, or of genes that are lists of them)")
     return Assessed(
         run,
-        tuple(genome),
+        genome,
         float(fitness),
         walk,
         gait,
@@ -701,3 +699,20 @@ __all__ = [
     "realism_section",
     "robustness_section",
 ]
+
+
+def _integer(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _genome(value: Any) -> Genome | None:
+    """A kept genome as its representation holds it (every representation's JSON is a list of
+    ints, or a list of genes that are lists of ints: GE, πGE and CFG-GP, or SGE and DSGE), None if
+    it is neither."""
+    if not isinstance(value, list):
+        return None
+    if all(_integer(c) for c in value):
+        return tuple(value)
+    if all(isinstance(gene, list) and all(_integer(c) for c in gene) for gene in value):
+        return tuple(tuple(gene) for gene in value)
+    return None

@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from gaitgram.backends.api import Verdict
-from gaitgram.ge.registry import DEFAULT_REPRESENTATION
+from gaitgram.ge.registry import DEFAULT_REPRESENTATION, Genome
 from gaitgram.report import escape
 from gaitgram.report.records import ArmRecord, ReportError, check_comparable, scoring_listing
 from gaitgram.report.stats import (
@@ -250,7 +250,7 @@ class Gait:
     """A gait to animate: a genome, drawn through its run directory's own pipeline."""
 
     run_directory: Path
-    genome: tuple[int, ...]
+    genome: Genome
 
 
 # ---- the summary ----------------------------------------------------------------------------
