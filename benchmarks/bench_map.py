@@ -19,9 +19,11 @@
 Times in 2 and 3 are CPU seconds, the best of five rounds of at least 50 ms each, so that load on
 a shared machine counts little; each grammar's PonyGE2 run is timed between two of gaitgram's, and
 the joints and export rounds alternate, the better of each kept. Measured 2026-11-29 on the loaded
-2-core machine (docs/ge.md, GE's speed): joints 1.23x slower than the export on hybrid.gg, 1.16x at
-best (hybrid-feedback.gg), 1.49x at worst (concatenating.gg); against PonyGE2 3.4x (joint-freedom.gg,
-concatenating.gg) to 5.7x (supervised_learning.bnf), letter.bnf 4.9x. Neither target is met.
+2-core machine, after the gait grammars' joints were cut from the phenotype (docs/ge.md, GE's
+speed, round 3): joints 1.06x slower than the export on hybrid.gg, 1.04x at best (free.gg), 1.23x
+at worst (joint-freedom.gg; 8 of 9 met); against PonyGE2 4.1x (Vladislavleva4.bnf) to 5.9x
+(concat.bnf), the gait grammars 4.3x (joint-freedom.gg) to 5.5x (hybrid-feedback.gg); 8 of 18
+met. Neither target is met on every grammar.
 """
 
 from __future__ import annotations

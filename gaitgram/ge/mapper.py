@@ -24,7 +24,11 @@ A joint rule's items go between two negative ints, markers that the loops meet
 where they meet the bottom of the stack (no test on the common path): the opening
 one records the output's length, the closing one joins the joint's text from there,
 so that a joint's phenotype is one slice of the output, joined once, not a scan of
-every piece. ``map_many`` maps a whole batch in one loop, set up once.
+every piece. Where the start rule is ``<j1>;<j2>;...`` and nothing else derives a
+separator's character (every bundled gait grammar: :func:`_cutter` decides it once),
+the joint rules get no markers and the finished phenotype is cut at the separators:
+one ``str.split`` a genome, not two markers and a join per joint.
+``map_many`` maps a whole batch in one loop, set up once.
 ``python -m benchmarks map`` measures both paths.
 """
 
@@ -244,6 +248,14 @@ class Mapper:
         #: The joints' order when the loops' texts can be taken as they are (in that order); None
         #: where they come from the tree (a repeated rule's later text may stand under its name).
         self._loop_order: tuple[str, ...] | None = None if self._joints_by_tree else self._joint_order
+        #: Where every joint is one item of a start rule ``<j1>;<j2>;...`` (the gait grammars), a
+        #: function that cuts a valid phenotype into its joints, in order (:func:`_cutter`): the
+        #: fast loops then map with no markers. None: the markers give the joints.
+        self.joints_from_phenotype: Callable[[str], dict[str, str]] | None = (
+            _cutter(self.productions, self.start, self.joint_rules, self._joint_order)
+            if self.joint_list and not self._joints_by_tree
+            else None
+        )
 
         self._ops: tuple[tuple[_Op, ...], ...] = tuple(
             tuple(self._op(r, choice) for choice in choices) for r, choices in enumerate(self.productions)
@@ -264,7 +276,7 @@ class Mapper:
     def _op(self, rule: int, items: tuple[Item, ...]) -> _Op:
         """A choice as the fast loops apply it: emit the leading terminals, continue with
         the first rule directly (saving a push and a pop), push the rest reversed."""
-        if rule in self.joint_rules:
+        if rule in self.joint_rules and self.joints_from_phenotype is None:
             return joint_op(self.joint_list.index(rule), items)
         lead = ""
         rest = list(items)
@@ -297,6 +309,7 @@ class Mapper:
     #
     # A joint's text is joined where its closing marker is met, from the output's length
     # recorded at its opening marker, and stored under its name: no second pass over markers.
+    # Where ``joints_from_phenotype`` is set there are no markers: the phenotype is cut instead.
 
     def map_fast(self, genome: Sequence[int]) -> Mapped:
         """Phenotype, used codons, wraps and joint phenotypes, without building the tree."""
@@ -334,6 +347,7 @@ class Mapper:
         ks, ops, stops, start, allowed = self._k, self._ops, self.stops, self.start, self._passes
         passes_range = range(allowed)
         joint_name, order, ordered = self.close_names, self._loop_order, self._joints
+        cut = self.joints_from_phenotype
         new, invalid, join, remaining = tuple.__new__, InvalidReason.CODONS, "".join, length_hint
         results: list[Mapped] = []
         keep = results.append
@@ -394,9 +408,15 @@ class Mapper:
                 reason, used = stops.get(item, invalid), allowed * n
             wraps = (used - 1) // n if used else 0
             if reason is None:
-                if texts and tuple(texts) != order:
-                    texts = ordered(texts, codons)
-                keep(new(Mapped, (join(out), used, wraps, texts, None)))
+                if texts:
+                    if tuple(texts) != order:
+                        texts = ordered(texts, codons)
+                    keep(new(Mapped, (join(out), used, wraps, texts, None)))
+                elif cut is None:
+                    keep(new(Mapped, (join(out), used, wraps, texts, None)))
+                else:
+                    phenotype = join(out)
+                    keep(new(Mapped, (phenotype, used, wraps, cut(phenotype), None)))
             else:
                 keep(new(Mapped, (None, used, wraps, {}, reason)))
                 stack.clear()
@@ -409,6 +429,7 @@ class Mapper:
         allowed = self._passes
         passes_range = range(allowed)
         joint_name, order, ordered = self.close_names, self._loop_order, self._joints
+        cut = self.joints_from_phenotype
         new, invalid, join, remaining = tuple.__new__, InvalidReason.CODONS, "".join, length_hint
         results: list[Mapped] = []
         keep = results.append
@@ -503,9 +524,15 @@ class Mapper:
                     reason, used = stops.get(item, invalid), allowed * n
             wraps = (used - 1) // n if used else 0
             if reason is None:
-                if texts and tuple(texts) != order:
-                    texts = ordered(texts, codons)
-                keep(new(Mapped, (join(out), used, wraps, texts, None)))
+                if texts:
+                    if tuple(texts) != order:
+                        texts = ordered(texts, codons)
+                    keep(new(Mapped, (join(out), used, wraps, texts, None)))
+                elif cut is None:
+                    keep(new(Mapped, (join(out), used, wraps, texts, None)))
+                else:
+                    phenotype = join(out)
+                    keep(new(Mapped, (phenotype, used, wraps, cut(phenotype), None)))
             else:
                 keep(new(Mapped, (None, used, wraps, {}, reason)))
                 stack.clear()
@@ -515,7 +542,8 @@ class Mapper:
 
     def _many_depth(self, genomes: Iterable[Sequence[int]]) -> list[Mapped]:
         """Both modes with a depth limit, a genome at a time (``_run_depth``)."""
-        run, order, ordered, new = self._run_depth, self._loop_order, self._joints, tuple.__new__
+        run, order, ordered, cut = self._run_depth, self._loop_order, self._joints, self.joints_from_phenotype
+        new = tuple.__new__
         results: list[Mapped] = []
         keep = results.append
         for genome in genomes:
@@ -524,9 +552,12 @@ class Mapper:
             n = len(codons)
             wraps = (used - 1) // n if used else 0
             if reason is None:
-                if texts and tuple(texts) != order:
+                phenotype = "".join(out)
+                if cut is not None:
+                    texts = cut(phenotype)
+                elif texts and tuple(texts) != order:
                     texts = ordered(texts, codons)
-                keep(new(Mapped, ("".join(out), used, wraps, texts, None)))
+                keep(new(Mapped, (phenotype, used, wraps, texts, None)))
             else:
                 keep(new(Mapped, (None, used, wraps, {}, reason)))
         return results
@@ -670,6 +701,78 @@ class Mapper:
             rule_names=self.rule_names,
             genome_length=n,
         )
+
+
+def _cutter(
+    productions: Sequence[Sequence[tuple[Item, ...]]],
+    start: int,
+    joint_rules: Mapping[int, tuple[str, ...]],
+    order: tuple[str, ...],
+) -> Callable[[str], dict[str, str]] | None:
+    """How to cut a valid phenotype into its joints, in ``order``, where the grammar's shape allows
+    it; None where it does not (the loops' markers then give them).
+
+    The shape: the start rule has one choice, its items rules separated by literal terminals
+    (``<j1>;<j2>;...;<frequency>``, terminals joined), each joint rule one of those items, once,
+    and used by no rule they reach (so every derivation holds each joint exactly once, there), and
+    no terminal they reach holds a character of any separator. The phenotype is then the items'
+    texts between the separators, and the first occurrence of each separator after an item's text
+    is the one that ends it: one ``str.split`` (or a partition per separator) finds every joint.
+    Anything else (a terminal before the first rule or after the last, two rules side by side, a
+    joint rule used twice or inside another item, the start rule reached again) keeps the markers.
+    """
+    if start in joint_rules or len(productions[start]) != 1:
+        return None
+    items = productions[start][0]
+    rules, seps = items[0::2], items[1::2]
+    if (
+        len(items) % 2 == 0
+        or not all(isinstance(r, int) for r in rules)
+        or not all(isinstance(s, str) for s in seps)
+    ):
+        return None
+    jointed = [r for r in rules if r in joint_rules]
+    if len(jointed) != len(set(jointed)) or set(jointed) != set(joint_rules):
+        return None
+    banned = set("".join(seps))
+    seen: set[Any] = set(rules)
+    todo = list(seen)
+    while todo:
+        for choice in productions[todo.pop()]:
+            for item in choice:
+                if isinstance(item, str):
+                    if not banned.isdisjoint(item):
+                        return None
+                elif item == start or item in joint_rules:
+                    return None
+                elif item not in seen:
+                    seen.add(item)
+                    todo.append(item)
+    at = {names[0]: rules.index(r) for r, names in joint_rules.items()}
+    places = tuple(at[name] for name in order)
+    pairs = tuple(zip(order, places, strict=True))
+    if len(set(seps)) == 1:
+        sep = seps[0]
+        if places == tuple(range(len(rules))):  # every item a joint, in order: all in C
+            # zip without strict=: the keyword takes zip off its fast call path (0.2 us a genome);
+            # the shape gives exactly one part per joint.
+            return lambda phenotype: dict(zip(order, phenotype.split(sep)))  # noqa: B905
+
+        def cut(phenotype: str) -> dict[str, str]:
+            parts = phenotype.split(sep)
+            return {name: parts[i] for name, i in pairs}
+
+        return cut
+
+    def partition(phenotype: str) -> dict[str, str]:
+        parts = []
+        for sep in seps:
+            text, _, phenotype = phenotype.partition(sep)
+            parts.append(text)
+        parts.append(phenotype)
+        return {name: parts[i] for name, i in pairs}
+
+    return partition
 
 
 def _join_terminals(choice: tuple[Item, ...]) -> tuple[Item, ...]:

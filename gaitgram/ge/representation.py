@@ -124,8 +124,7 @@ class GrammarTables:
     def op(self, rule: int, items: tuple[Item, ...]) -> Any:
         """The operation of a choice of ``rule`` with ``items`` (terminals joined): for tables
         built on this grammar, as SGE's unrolled rules are."""
-        joint = self.joint_rules.index(rule) if rule in self.joint_rules else None
-        return make_op(items, joint)
+        return make_op(items, _marker(self.base, rule))
 
     def joints_of(
         self, texts: dict[str, str], choices: Callable[[Any], Sequence[int]], genome: Any
@@ -171,15 +170,22 @@ def grammar_tables(source: Grammar | Cfg, joints: Mapping[str, str] | None = Non
     )
     if depth[base.start] is None:
         raise MapperError(f"the start rule <{cfg.names[base.start]}> derives no finite phenotype")
-    joint_rules = base.joint_list
-    ops = tuple(
-        tuple(make_op(items, joint_rules.index(r) if r in joint_rules else None) for items in choices)
-        for r, choices in enumerate(base.productions)
-    )
     children = tuple(
         tuple(tuple(i for i in choice if isinstance(i, int)) for choice in choices) for choices in cfg.choices
     )
-    return GrammarTables(cfg, facts, base.start, base, ops, children, joint_rules)
+    ops = tuple(
+        tuple(make_op(items, _marker(base, r)) for items in choices)
+        for r, choices in enumerate(base.productions)
+    )
+    return GrammarTables(cfg, facts, base.start, base, ops, children, base.joint_list)
+
+
+def _marker(base: Mapper, rule: int) -> int | None:
+    """The number of ``rule``'s joint markers; None for a rule without, and for every rule of a
+    grammar whose joints are cut from the phenotype (``base.joints_from_phenotype``)."""
+    if rule not in base.joint_list or base.joints_from_phenotype is not None:
+        return None
+    return base.joint_list.index(rule)
 
 
 def decode_genes(
@@ -387,7 +393,11 @@ def result(
     # (a dozen nodes a genome) that call was a tenth of the decoding.
     if reason is not None:
         return _new(MappedGenome, (None, {}, depth, nodes, used, reason))
-    joints = tables.joints_of(texts, choices, genome) if texts else texts
+    if texts:
+        joints = tables.joints_of(texts, choices, genome)
+    else:
+        cut = tables.base.joints_from_phenotype
+        joints = texts if cut is None else cut(phenotype)  # type: ignore[arg-type]  # valid, so a str
     return _new(MappedGenome, (phenotype, joints, depth, nodes, used, None))
 
 
