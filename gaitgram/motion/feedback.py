@@ -118,6 +118,11 @@ def _split(motion: Motion, periodic: frozenset[str], n_samples: int) -> ClosedLo
         del stack[len(stack) - arity :]
         if kind is _NAME and value not in CONSTANTS:
             used = frozenset({value})  # type: ignore[arg-type]
+        elif arity == 1:  # most nodes have one or two operands: share their sets, copy none
+            used = uses[kids[0]]
+        elif arity == 2:
+            left, right = uses[kids[0]], uses[kids[1]]
+            used = left | right if left and right and left != right else left or right
         else:
             used = frozenset().union(*(uses[k] for k in kids))
         uses.append(used)
@@ -176,6 +181,16 @@ def _subsyntax(text: str, nodes: Sequence[Node], rename: str | None = None) -> S
     """A subtree's nodes as an expression of its own: spans moved to its text, ``rename`` read as ``t``."""
     start = min(node[2] for node in nodes)
     end = max(node[3] for node in nodes)
+    if start == 0:  # a leading subtree (a closed loop's curve before its feedback): nothing moves
+        if rename is None:
+            return Syntax(text[:end], tuple(nodes))
+        return Syntax(
+            text[:end],
+            tuple(
+                (_NAME, VARIABLE, *node[2:]) if node[0] is _NAME and node[1] == rename else node
+                for node in nodes
+            ),
+        )
     moved: list[Node] = []
     for kind, value, a_start, a_end, a, b in nodes:
         if kind is _NAME and value == rename:
@@ -198,7 +213,13 @@ def _fold(text: str, nodes: Sequence[Node]) -> float | MotionError:
 
 
 def _slot(text: str, nodes: Sequence[Node], variable: str, n_samples: int) -> Slot | MotionError:
-    syntax = _subsyntax(text, nodes, rename=variable)
+    return _sampled_slot(_subsyntax(text, nodes, rename=variable), variable, n_samples)
+
+
+@lru_cache(maxsize=8192)
+def _sampled_slot(syntax: Syntax, variable: str, n_samples: int) -> Slot | MotionError:
+    """A slot by its syntax (text and nodes): gaits of a run that differ only in their feedback gains
+    share their curve, which is compiled and sampled once."""
     motion = Motion(syntax.text, syntax, compile_program(syntax))
     curve = motion.evaluate(np.append(phase_grid(n_samples), 1.0))
     if not curve.ok:
