@@ -36,6 +36,7 @@ class Style(StrEnum):
     JOINT_FREEDOM = "joint-freedom"
     HYBRID_FEEDBACK = "hybrid-feedback"
     HYBRID_RESET = "hybrid-reset"
+    HYBRID_PACE = "hybrid-pace"
 
 
 SUMMARIES = {
@@ -49,6 +50,8 @@ SUMMARIES = {
     "the hip, shoulder and fetlocks",
     Style.HYBRID_RESET: "the feedback grammar with each limb's curves played at its oscillator phase, "
     "restarted when its hoof lands",
+    Style.HYBRID_PACE: "the feedback grammar with speed feedback: the trunk's pace places the hip and "
+    "shoulder",
 }
 
 #: The curves a closed loop corrects (docs/motion.md, "Closed loops"): the hip and shoulder swing
@@ -62,6 +65,16 @@ FEEDBACK_RULES = (
     "<pitch_gain> ::= float[-1..1 step 0.1]",
     "<pitch_rate_gain> ::= float[-0.1..0.1 step 0.01]",
     "<load_gain> ::= float[-5..5 step 0.5]",
+)
+#: The curves speed feedback places (Raibert, Legged Robots That Balance, 1986: a leg placed
+#: further ahead when the body is too fast slows it): the hip and shoulder, whose swing moves the
+#: hoof fore and aft.
+PACE_JOINTS = ("shoulder_fore", "hip_hind")
+#: The speed-feedback gain's range, centred on 0 (no feedback): degrees of joint per unit of
+#: ``pace`` (the speed as a share of the target), so 10 % too slow moves a curve by up to 1 degree.
+PACE_RULES = (
+    "<pace_feedback> ::= +<pace_gain>*(pace-1)",
+    "<pace_gain> ::= float[-10..10 step 0.5]",
 )
 #: Where in its own cycle (``t``) each limb group's hoof lands when the seed is played on the
 #: horse: a limb's oscillator ``phase`` restarts at 0 there, so the reset grammar plays its seed
@@ -301,16 +314,18 @@ def _seed_plus_funcs(
     freedom: bool = False,
     feedback: Collection[str] = (),
     phased: Collection[str] = (),
+    pace: Collection[str] = (),
 ) -> list[str]:
     """Fig. 2's shape: each curve is its seed rule, optionally plus concatenated functions
     (``seed_rules`` gives each seed's text and the angles it can reach); ``feedback`` joints add
-    the closed loop's corrections, ``phased`` joints play their functions at the limb's phase."""
+    the closed loop's corrections, ``phased`` joints play their functions at the limb's phase,
+    ``pace`` joints add speed feedback."""
     lines = []
     for joint in joints:
         rule = f"<{prefix}_{joint}>"
         gain = _gain(_limits(joint, catalogue), seed_rules[joint][1])
         funcs = "<phase_funcs>" if joint in phased else "<funcs>"
-        tail = "<feedback>" if joint in feedback else ""
+        tail = ("<feedback>" if joint in feedback else "") + ("<pace_feedback>" if joint in pace else "")
         lines += [
             _joint_annotation(joint, catalogue, freedom=freedom),
             f"<{joint}> ::= {rule}{tail} | {rule}+{gain}*({funcs}){tail}",
@@ -321,6 +336,13 @@ def _seed_plus_funcs(
             "# The closed loop (docs/motion.md): the trunk's pitch and pitch rate and the limb's own",
             "# hoof load correct the curve; each gain's range is centred on 0, no feedback.",
             *FEEDBACK_RULES,
+            "",
+        ]
+    if pace:
+        lines += [
+            "# Speed feedback: the trunk's pace (its speed as a share of the target) places the hip",
+            "# and shoulder, as Raibert's foot placement; the gain's range is centred on 0, none.",
+            *PACE_RULES,
             "",
         ]
     lines += _funcs_rules(phased=bool(phased))
@@ -353,6 +375,17 @@ def _hybrid_feedback(joints: list[str], fits: Mapping[str, SineFit], catalogue: 
     )
     seeds = {joint: _fitting_curve(fits[joint], _limits(joint, catalogue), keep=0.5) for joint in joints}
     return _seed_plus_funcs(joints, catalogue, seeds, "num", comment, feedback=FEEDBACK_JOINTS)
+
+
+def _hybrid_pace(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
+    comment = (
+        "# The seed, each number free within 25 % of itself, or less where that would leave\n"
+        "# the functions under half of the room the seed leaves within the limits."
+    )
+    seeds = {joint: _fitting_curve(fits[joint], _limits(joint, catalogue), keep=0.5) for joint in joints}
+    return _seed_plus_funcs(
+        joints, catalogue, seeds, "num", comment, feedback=FEEDBACK_JOINTS, pace=PACE_JOINTS
+    )
 
 
 def _hybrid_reset(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
@@ -441,6 +474,7 @@ _WRITERS: dict[Style, Callable[[list[str], Mapping[str, SineFit], JointCatalogue
     ),
     Style.HYBRID_FEEDBACK: _hybrid_feedback,
     Style.HYBRID_RESET: _hybrid_reset,
+    Style.HYBRID_PACE: _hybrid_pace,
 }
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 from types import MappingProxyType
 
 import mujoco
@@ -13,7 +14,7 @@ import pytest
 
 from gaitgram.backends.mujoco.control import Actuation, ClosedLoop, Oscillators
 from gaitgram.backends.mujoco.rollout import STATE_SPEC
-from gaitgram.backends.mujoco.sensing import Sensing
+from gaitgram.backends.mujoco.sensing import Sensing, SensingError
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
 from gaitgram.backends.mujoco_horse.joints import CATALOGUE, SENSORS
 from gaitgram.backends.mujoco_horse.model import LIMBS
@@ -62,6 +63,7 @@ def _slab_sensors() -> SensorCatalogue:
             by_name["pitch"],
             by_name["pitch_rate"],
             by_name["speed"],
+            by_name["pace"],
             replace(by_name["height"], read=MappingProxyType({**by_name["height"].read})),
             by_name["load"],
             by_name["contact"],
@@ -90,6 +92,35 @@ def test_a_known_pitch_rate_height_and_speed_are_read_as_declared() -> None:
     assert readings["pitch_rate"][0] == pytest.approx(math.degrees(0.3), abs=1e-9)  # rising nose
     assert readings["height"][0] == pytest.approx(0.1, abs=1e-9)  # 0.7 m against 0.6 standing
     assert readings["speed"][0] == pytest.approx(1.25, abs=1e-9)
+
+
+def test_pace_is_the_speed_as_a_share_of_the_walkers_target() -> None:
+    model = mujoco.MjModel.from_xml_string(SLAB)
+    data = mujoco.MjData(model)
+    data.qvel[:] = [1.25, 0.0, 0.0]
+    mujoco.mj_forward(model, data)
+    facts = {"standing_height": 0.6, "quarter_weight": 50 * 9.81 / 4, "target_speed": 0.5}
+    sensing = Sensing(model, _slab_sensors(), {"speed", "pace"}, limbs=("only",), facts=facts)
+    readings = sensing.read(*_record(model, data))
+    assert readings["pace"][0] == pytest.approx(2.5, abs=1e-9)  # 1.25 m/s against 0.5
+    assert readings["speed"][0] == pytest.approx(1.25, abs=1e-9)  # the same velocity, unscaled
+    with pytest.raises(SensingError, match="per names 'target_speed', which the walker does not give"):
+        Sensing(model, _slab_sensors(), {"pace"}, limbs=("only",), facts={"standing_height": 0.6})
+
+
+def test_the_horse_paces_at_one_when_it_walks_at_its_target_on_any_body() -> None:
+    """``pace`` divides by the task's own target, which scales with the body (retargeting)."""
+    for body in (None, "pony"):
+        evaluator = HorseEvaluator(HorseSettings(body=body))
+        target = evaluator.targets.velocity
+        assert evaluator._facts["target_speed"] == target
+        model, data = evaluator.model, mujoco.MjData(evaluator.model)
+        data.qvel[0] = target  # the root's forward slide
+        mujoco.mj_forward(model, data)
+        sensing = Sensing(model, SENSORS, {"speed", "pace"}, limbs=LIMBS, facts=evaluator._facts)
+        readings = sensing.read(*_record(model, data))
+        assert readings["pace"][0] == pytest.approx(1.0, abs=1e-6)
+        assert readings["speed"][0] == pytest.approx(target, abs=1e-6)
 
 
 def test_a_known_contact_and_load_are_read_as_declared() -> None:
@@ -300,3 +331,24 @@ def test_a_limb_sensor_on_a_joint_without_a_limb_is_not_played() -> None:
     assert not evaluation.status.viable
     assert "neck_mid" in evaluation.detail
     assert "load" in evaluation.detail
+
+
+def test_the_pace_grammars_seed_is_the_feedback_seed_and_its_gain_reads_the_pace() -> None:
+    """hybrid-pace.gg's seed genome (every gain 0) scores as hybrid-feedback.gg's to the bit; a
+    pace gain moves the hip and shoulder with the trunk's speed, and so changes the score."""
+    from gaitgram.ge import compile_mapper
+    from gaitgram.language import load
+    from gaitgram.seed.grammars import seed_genome
+
+    grammars = Path(__file__).resolve().parents[2] / "grammars"
+    feedback, pace = (load(grammars / f"{name}.gg") for name in ("hybrid-feedback", "hybrid-pace"))
+    gaits = [compile_mapper(feedback).map_fast(seed_genome(feedback)).joints]
+    for gain in (20, 0):  # the middle index, 20, is gain 0; index 0 is -10 degrees per unit of pace
+        gaits.append(compile_mapper(pace).map_fast(seed_genome(pace, {"pace_gain": gain})).joints)
+    assert gaits[1]["hip_hind"] == gaits[0]["hip_hind"] + "+0*(pace-1)"
+    assert gaits[2]["shoulder_fore"] == gaits[0]["shoulder_fore"] + "+-10*(pace-1)"
+    assert gaits[2]["fetlock_hind"] == gaits[0]["fetlock_hind"]  # the fetlocks are not placed
+    batch = motion_batch(gaits, CATALOGUE.names, sensors=HORSE_SENSORS, frequency=(0.6, 1.3))
+    seed, zero, placed = (e.as_record() for e in HorseEvaluator().evaluate(batch))
+    assert zero == seed
+    assert placed["fitness"] != seed["fitness"]

@@ -5,7 +5,8 @@ vector (``mjSTATE_FULLPHYSICS``: time, qpos, qvel, ...) and ``sensordata``; what
 the body (its standing height, its weight) comes from the walker as named facts, so that this
 module knows no horse:
 
-* ``sensor``: one value of a MuJoCo sensor (``index`` into it), ``minus`` a fact;
+* ``sensor``: one value of a MuJoCo sensor (``index`` into it), as a share of a fact (``per``),
+  ``minus`` a fact;
 * ``pitch``: the pitch (degrees, nose up positive) of a ``framequat`` sensor;
 * ``joint_velocity``: a joint's velocity times ``scale``;
 * ``touch``: a touch sensor, per limb (``{limb}`` in its name), as a share of a fact (``per``)
@@ -39,6 +40,21 @@ def pitch_degrees(quat: NDArray[np.float64]) -> NDArray[np.float64]:
         return -np.degrees(np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0)))
 
 
+def _fact(
+    facts: Mapping[str, float], read: Mapping[str, object], key: str, sensor: str, default: float
+) -> float:
+    """The walker's fact that ``read[key]`` names (``default`` when it names none)."""
+    if key not in read:
+        return default
+    name = str(read[key])
+    if name not in facts:
+        known = ", ".join(sorted(facts)) or "none"
+        raise SensingError(
+            f"sensor {sensor}: {key} names {name!r}, which the walker does not give (it gives {known})"
+        )
+    return float(facts[name])
+
+
 @dataclass(frozen=True)
 class _Reader:
     name: str
@@ -53,7 +69,7 @@ class _Reader:
 class Sensing:
     """Reads ``names`` of ``catalogue`` from records of ``model``: body sensors as [gaits], per-limb
     ones as [gaits, limbs] (``limbs`` order). ``facts`` are the walker's numbers a ``read`` table
-    may name (``standing_height``, ``quarter_weight``)."""
+    may name (``standing_height``, ``quarter_weight``, ``target_speed``)."""
 
     def __init__(
         self,
@@ -89,13 +105,14 @@ class Sensing:
             starts = [self._sensor_start(model, sensor.name, name) for name in names]
             if kind == "sensor":
                 index = int(read.get("index", 0))
-                minus = float(facts[read["minus"]]) if "minus" in read else 0.0
-                return _Reader(sensor.name, kind, np.array([s + index for s in starts]), offset=-minus)
+                minus = _fact(facts, read, "minus", sensor.name, 0.0)
+                scale = 1.0 / _fact(facts, read, "per", sensor.name, 1.0)
+                return _Reader(sensor.name, kind, np.array([s + index for s in starts]), scale, offset=-minus)
             if kind == "pitch":
                 return _Reader(sensor.name, kind, np.arange(starts[0], starts[0] + 4))
             if kind == "touch":
                 above = read.get("above")
-                scale = 1.0 / float(facts[read["per"]]) if "per" in read else 1.0
+                scale = 1.0 / _fact(facts, read, "per", sensor.name, 1.0)
                 return _Reader(
                     sensor.name,
                     kind,
@@ -127,7 +144,10 @@ class Sensing:
             elif reader.kind == "pitch":
                 readings[reader.name] = pitch_degrees(sensordata[:, reader.columns])
             elif reader.kind == "sensor":
-                readings[reader.name] = sensordata[:, reader.columns[0]] + reader.offset
+                values = sensordata[:, reader.columns[0]]
+                if reader.scale != 1.0:  # a share of a fact (``per``): the others' bits untouched
+                    values = values * reader.scale
+                readings[reader.name] = values + reader.offset
             else:  # touch
                 values = sensordata[:, reader.columns]
                 if reader.above is not None:

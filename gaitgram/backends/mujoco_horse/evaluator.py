@@ -341,7 +341,11 @@ class HorseEvaluator:
     def _facts(self) -> dict[str, float]:
         """What the sensors' read tables may name of the body."""
         weight = self.layout.total_mass * -float(self.model.opt.gravity[2])
-        return {"standing_height": self.layout.standing_height, "quarter_weight": weight / 4}
+        return {
+            "standing_height": self.layout.standing_height,
+            "quarter_weight": weight / 4,
+            "target_speed": self.targets.velocity,
+        }
 
     # ---- simulation -------------------------------------------------------------------
 
