@@ -335,7 +335,7 @@ def test_a_limb_sensor_on_a_joint_without_a_limb_is_not_played() -> None:
 
 def test_the_pace_grammars_seed_is_the_feedback_seed_and_its_gain_reads_the_pace() -> None:
     """hybrid-pace.gg's seed genome (every gain 0) scores as hybrid-feedback.gg's to the bit; a
-    pace gain moves the hip and shoulder with the trunk's speed, and so changes the score."""
+    stride gain scales the hip and shoulder with the trunk's pace, and so changes the score."""
     from gaitgram.ge import compile_mapper
     from gaitgram.language import load
     from gaitgram.seed.grammars import seed_genome
@@ -343,12 +343,14 @@ def test_the_pace_grammars_seed_is_the_feedback_seed_and_its_gain_reads_the_pace
     grammars = Path(__file__).resolve().parents[2] / "grammars"
     feedback, pace = (load(grammars / f"{name}.gg") for name in ("hybrid-feedback", "hybrid-pace"))
     gaits = [compile_mapper(feedback).map_fast(seed_genome(feedback)).joints]
-    for gain in (20, 0):  # the middle index, 20, is gain 0; index 0 is -10 degrees per unit of pace
-        gaits.append(compile_mapper(pace).map_fast(seed_genome(pace, {"pace_gain": gain})).joints)
-    assert gaits[1]["hip_hind"] == gaits[0]["hip_hind"] + "+0*(pace-1)"
-    assert gaits[2]["shoulder_fore"] == gaits[0]["shoulder_fore"] + "+-10*(pace-1)"
-    assert gaits[2]["fetlock_hind"] == gaits[0]["fetlock_hind"]  # the fetlocks are not placed
+    for gain in (20, 0):  # the middle index, 20, is gain 0; index 0 is -1
+        gaits.append(compile_mapper(pace).map_fast(seed_genome(pace, {"stride_gain": gain})).joints)
+    for joint, gain in (("hip_hind", "0"), ("shoulder_fore", "-1")):
+        closed = gaits[0][joint].index("+0*pitch")  # the feedback terms, every gain 0
+        curve, tail = gaits[0][joint][:closed], gaits[0][joint][closed:]
+        assert gaits[1 if gain == "0" else 2][joint] == f"({curve})*(1+{gain}*(1-pace)){tail}"
+    assert gaits[2]["fetlock_hind"] == gaits[0]["fetlock_hind"]  # the fetlocks are not scaled
     batch = motion_batch(gaits, CATALOGUE.names, sensors=HORSE_SENSORS, frequency=(0.6, 1.3))
-    seed, zero, placed = (e.as_record() for e in HorseEvaluator().evaluate(batch))
+    seed, zero, scaled = (e.as_record() for e in HorseEvaluator().evaluate(batch))
     assert zero == seed
-    assert placed["fitness"] != seed["fitness"]
+    assert scaled["fitness"] != seed["fitness"]
