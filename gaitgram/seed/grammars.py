@@ -373,24 +373,15 @@ def _hybrid(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCata
     return _seed_plus_funcs(joints, catalogue, seeds, "num", comment)
 
 
-def _hybrid_feedback(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
+def _hybrid_feedback(
+    joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue, *, pace: Collection[str] = ()
+) -> list[str]:
     comment = (
         "# The seed, each number free within 25 % of itself, or less where that would leave\n"
         "# the functions under half of the room the seed leaves within the limits."
     )
     seeds = {joint: _fitting_curve(fits[joint], _limits(joint, catalogue), keep=0.5) for joint in joints}
-    return _seed_plus_funcs(joints, catalogue, seeds, "num", comment, feedback=FEEDBACK_JOINTS)
-
-
-def _hybrid_pace(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
-    comment = (
-        "# The seed, each number free within 25 % of itself, or less where that would leave\n"
-        "# the functions under half of the room the seed leaves within the limits."
-    )
-    seeds = {joint: _fitting_curve(fits[joint], _limits(joint, catalogue), keep=0.5) for joint in joints}
-    return _seed_plus_funcs(
-        joints, catalogue, seeds, "num", comment, feedback=FEEDBACK_JOINTS, pace=PACE_JOINTS
-    )
+    return _seed_plus_funcs(joints, catalogue, seeds, "num", comment, feedback=FEEDBACK_JOINTS, pace=pace)
 
 
 def _hybrid_reset(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
@@ -479,7 +470,9 @@ _WRITERS: dict[Style, Callable[[list[str], Mapping[str, SineFit], JointCatalogue
     ),
     Style.HYBRID_FEEDBACK: _hybrid_feedback,
     Style.HYBRID_RESET: _hybrid_reset,
-    Style.HYBRID_PACE: _hybrid_pace,
+    Style.HYBRID_PACE: lambda joints, fits, catalogue: _hybrid_feedback(
+        joints, fits, catalogue, pace=PACE_JOINTS
+    ),
 }
 
 
