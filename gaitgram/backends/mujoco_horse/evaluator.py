@@ -74,7 +74,12 @@ from gaitgram.backends.mujoco_horse.model import (
 )
 from gaitgram.backends.mujoco_horse.settings import HorseSettings, warmup_cycles, weights_in_force
 from gaitgram.backends.mujoco_horse.targets import WALK_TERMS, GaitTargets, walk_targets
-from gaitgram.backends.mujoco_horse.task import fitness_components, walk_terms, weighted_fitness
+from gaitgram.backends.mujoco_horse.task import (
+    fitness_components,
+    footfall_error,
+    walk_terms,
+    weighted_fitness,
+)
 from gaitgram.motion.gait import MotionBatch
 
 #: Trunk lower than this share of its standing height: the horse fell.
@@ -734,7 +739,13 @@ class HorseEvaluator:
         warmup = warmup_cycles(self.settings.warmup_seconds, recording.frequency)
         scored = measure_cycles(recording, warmup, warmup + self.scored, self._gap_steps)
         means = window(scored)
-        components = fitness_components(means, self.targets, self.layout.total_mass)
+        components = fitness_components(
+            means,
+            self.targets,
+            self.layout.total_mass,
+            footfall_error(scored),
+            self.settings.speed_margin or 0.0,
+        )
         measured = {
             "measured_velocity": means.velocity,
             "measured_duty_factor": means.duty_factor,

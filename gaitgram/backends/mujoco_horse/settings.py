@@ -38,6 +38,8 @@ MAX_FROUDE = 2.5
 TEST_FLOORS: tuple[int, ...] = tuple(range(26, 36))
 #: Most bump floors a fitness may score on: each is another simulation of every gait.
 MAX_BUMP_FLOORS = 10
+#: The largest ``speed_margin``: the walk criterion allows 10 % either side of the target speed.
+MAX_SPEED_MARGIN = 0.1
 
 
 #: Unscored time after the ramp, rounded up to whole cycles of the gait: from rest, the horse
@@ -70,6 +72,10 @@ class HorseSettings:
     #: mean over the flat floor and these, and a gait that falls on one is unviable. None: the flat
     #: floor alone, not spelt out, so that the runs scored on it keep their fingerprints.
     bump_floors: tuple[int, ...] | None = None
+    #: How far above the walk's target speed (a share of it) the fitness aims its speed and stride
+    #: terms; the walk criterion keeps the target. None: no margin, not spelt out (runs made
+    #: before it keep their fingerprints). docs/fitness.md, "Margins".
+    speed_margin: float | None = None
 
     def __post_init__(self) -> None:
         _check(self)
@@ -88,12 +94,13 @@ class HorseSettings:
             "body",
             "frequencies_of",
             "bump_floors",
+            "speed_margin",
         )
         for key in settings:
             if key not in known:
                 raise SettingsError(str(key), f"unknown mujoco-horse setting{_suggest(str(key), known)}")
         values: dict[str, Any] = {}
-        for key in ("froude", "ramp_seconds", "warmup_seconds"):
+        for key in ("froude", "ramp_seconds", "warmup_seconds", "speed_margin"):
             if key in settings:
                 values[key] = _number(key, settings[key])
         for key in ("cycles", "horizon_cycles", "threads"):
@@ -173,6 +180,12 @@ def _check(s: HorseSettings) -> None:
             raise SettingsError(key, str(error)) from None
     if not MIN_FROUDE <= s.froude <= MAX_FROUDE:
         raise SettingsError("froude", f"must be in [{MIN_FROUDE}, {MAX_FROUDE}], not {s.froude}")
+    if s.speed_margin is not None and not 0 <= s.speed_margin <= MAX_SPEED_MARGIN:
+        raise SettingsError(
+            "speed_margin",
+            f"must be a share of the target speed in [0, {MAX_SPEED_MARGIN}] (0.04: aim 4 % faster), "
+            f"not {s.speed_margin}",
+        )
     if not 0 <= s.ramp_seconds <= 10:
         raise SettingsError("ramp_seconds", f"must be in [0, 10] seconds, not {s.ramp_seconds}")
     if not 0 <= s.warmup_seconds <= 10:

@@ -44,7 +44,9 @@ DEFAULT_FROUDE = 0.48
 
 #: Default fitness weights: errors relative to the prediction, energy as a cost of transport,
 #: steadiness as the spread of the per-cycle speeds. ``frequency`` is measured and reported but
-#: not scored by default: a gait at the target speed with the target stride has it.
+#: not scored by default: a gait at the target speed with the target stride has it. ``footfalls``
+#: (how far the footfalls land from the real walk's phases) is measured, and not scored by
+#: default either: weighting it is a choice a run makes (docs/fitness.md, "Margins").
 DEFAULT_WEIGHTS = {
     "velocity": 1.0,
     "duty_factor": 1.0,
@@ -52,6 +54,7 @@ DEFAULT_WEIGHTS = {
     "frequency": 0.0,
     "energy": 0.1,
     "steadiness": 1.0,
+    "footfalls": 0.0,
 }
 
 #: Table 2 of the paper: every component it has weighted 1 ("distance" is the velocity term); the
@@ -63,6 +66,7 @@ PAPER_WEIGHTS = {
     "frequency": 0.0,
     "energy": 1.0,
     "steadiness": 0.0,
+    "footfalls": 0.0,
 }
 
 #: No component counts for more than this (500 % error): one absurd measure cannot swamp the rest,

@@ -66,18 +66,42 @@ def walk_terms(measures: CycleMeasures, targets: GaitTargets) -> dict[str, bool]
 # ---- fitness -----------------------------------------------------------------------------------
 
 
-def fitness_components(measured: WindowMeasures, targets: GaitTargets, mass: float) -> dict[str, float]:
+def footfall_error(measures: CycleMeasures) -> float:
+    """How far the footfalls land from the real walk's phases (criterion v2's footfalls term, which
+    allows 0.10): the mean over the lead hoof's strides and the three other hooves of
+    |phase - walk's phase|, in cycles. A hoof that does not land in a stride counts 1 (a whole
+    cycle off), as does a window with no stride of the lead hoof."""
+    if not len(measures.phases):
+        return 1.0
+    expected = np.array([WALK_FOOTFALLS[hoof] for hoof in HOOVES[1:]])
+    error = np.abs(measures.phases[:, 1:] - expected)
+    return float(np.mean(np.where(np.isnan(error), 1.0, error)))
+
+
+def fitness_components(
+    measured: WindowMeasures,
+    targets: GaitTargets,
+    mass: float,
+    footfalls: float,
+    speed_margin: float = 0.0,
+) -> dict[str, float]:
     """Each component is dimensionless, so weights compare like with like; each is capped at
-    :data:`COMPONENT_CAP`."""
+    :data:`COMPONENT_CAP`. ``footfalls`` is :func:`footfall_error` of the scored cycles.
+    ``speed_margin`` aims the speed and stride terms that share above the walk's targets (the
+    criterion keeps its own): a gait tuned exactly to the target on the flat has no room left for
+    what turf costs it (docs/fitness.md, "Margins")."""
+    aimed = 1.0 + speed_margin
     raw = {
-        "velocity": abs(measured.velocity - targets.velocity) / targets.velocity,
+        "velocity": abs(measured.velocity - aimed * targets.velocity) / (aimed * targets.velocity),
         "duty_factor": abs(measured.duty_factor - targets.duty_factor) / targets.duty_factor,
-        "stride": abs(measured.stride_length - targets.stride_length) / targets.stride_length,
+        "stride": abs(measured.stride_length - aimed * targets.stride_length)
+        / (aimed * targets.stride_length),
         "frequency": abs(measured.stride_frequency - targets.stride_frequency) / targets.stride_frequency,
         # Cost of transport at the target speed: mean power over the weight times that speed
         # (revision 3's work per target cycle over m g lambda*, the same quantity).
         "energy": measured.power / (mass * G * targets.velocity),
         "steadiness": measured.speed_spread / targets.velocity,
+        "footfalls": footfalls,
     }
     return {name: min(value, COMPONENT_CAP) for name, value in raw.items()}
 
