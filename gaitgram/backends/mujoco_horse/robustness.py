@@ -121,9 +121,22 @@ def disturbed(
     horse = HorseSettings.from_mapping(settings)
     if disturbance != "bumps":
         return _played(horse, batch, disturbance, None, weights)
-    models = [bumpy_model(horse.body, seed, bump_scale) for seed in BUMP_SEEDS]
-    floors = [_played(horse, batch, disturbance, model, weights) for model in models]
+    floors = [on_floor(settings, batch, seed, weights, bump_scale=bump_scale) for seed in BUMP_SEEDS]
     return [_on_every_floor(disturbance, [floor[g] for floor in floors]) for g in range(len(batch))]
+
+
+def on_floor(
+    settings: Mapping[str, object],
+    batch: MotionBatch,
+    seed: int,
+    weights: Mapping[str, float] | None = None,
+    *,
+    bump_scale: float = 1.0,
+) -> list[Trial]:
+    """Every gait of ``batch`` played to the horizon on the bump floor drawn from ``seed``: one
+    floor of the ``bumps`` disturbance, each trial's detail naming the walk terms it lost."""
+    horse = HorseSettings.from_mapping(settings)
+    return _played(horse, batch, "bumps", bumpy_model(horse.body, seed, bump_scale), weights)
 
 
 def _played(
