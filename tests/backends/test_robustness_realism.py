@@ -24,6 +24,7 @@ from gaitgram.backends.mujoco_horse.robustness import (
     _on_every_floor,
     _push,
     disturbed,
+    on_floor,
 )
 from gaitgram.motion.gait import MotionBatch, motion_batch
 from gaitgram.seed import load_seed
@@ -60,6 +61,14 @@ def test_the_seed_recovers_from_a_backward_push_and_a_falling_gait_holds_under_n
     ]  # deterministic
     with pytest.raises(ValueError, match="no disturbance named 'shove'"):
         disturbed({}, batch, "shove")
+    # One floor of the bumps, played alone, is that floor of the disturbance: the seed's count of
+    # floors held is the sum over floors, and each floor's trial names what it lost.
+    floors = [on_floor({}, batch, seed) for seed in BUMP_SEEDS]
+    (bumps_seed, _) = disturbed({}, batch, "bumps")
+    assert sum(floor[0].holds for floor in floors) == bumps_seed.held
+    assert all(not floor[1].upright and "down to" in (floor[1].detail or "") for floor in floors)
+    lost = [floor[0].detail for floor in floors if not floor[0].holds]
+    assert all(detail and detail.startswith("not walking again: ") for detail in lost)
 
 
 def test_a_push_is_a_share_of_body_weight_on_the_trunk_for_a_tenth_of_a_second() -> None:
