@@ -12,6 +12,7 @@ committed strategies study's 30 best GE-hybrid gaits (docs/results/strategies/ru
    of the trial's ten bump floors: of the 300 plays, how many lose the walk, on which terms (a
    play may lose several), and how many on the speed term alone.
 
+``--arm DIR`` measures another arm's best gaits instead (the balance-margins study's, say).
 Not a speed benchmark: a reproducible measurement. About 10 minutes on 2 cores.
 """
 
@@ -19,10 +20,11 @@ from __future__ import annotations
 
 import collections
 import json
+from pathlib import Path
 
 import numpy as np
 
-from benchmarks.bench_speed_feedback import ARM, FLOORS, PLACED
+from benchmarks.bench_speed_feedback import ARM, FLOORS, PLACED, _turf
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
 from gaitgram.backends.mujoco_horse.measures import HOOVES, measure_cycles
 from gaitgram.backends.mujoco_horse.model import bumpy_model
@@ -36,10 +38,11 @@ from gaitgram.motion.gait import MotionBatch
 SCALES = (1.0, 1.03, 1.05)
 
 
-def main() -> None:
-    pipeline = RunDirectory.open(ARM).pipeline
+def main(argv: list[str] | None = None) -> None:
+    arm = Path(argv[argv.index("--arm") + 1]) if argv and "--arm" in argv else ARM
+    pipeline = RunDirectory.open(arm).pipeline
     genomes = [
-        tuple(json.loads((ARM / f"run-{run:03d}" / "best.json").read_text())["genome"])
+        tuple(json.loads((arm / f"run-{run:03d}" / "best.json").read_text())["genome"])
         for run in range(pipeline.config.runs)
     ]
     mapped = pipeline.map(genomes)
@@ -55,7 +58,10 @@ def main() -> None:
         batches[scale] = pipeline.motion(
             [m._replace(joints=j) for m, j in zip(mapped, joints, strict=True)], generation
         )
+    print(f"the best gaits of {arm}")
     _footfalls(horse, batches[1.0])
+    print()
+    _turf(settings, batches[1.0])
     print()
     print(
         f"GE-hybrid's {len(genomes)} best gaits on the trial's {len(BUMP_SEEDS)} bump floors: "

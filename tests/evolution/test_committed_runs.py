@@ -41,7 +41,15 @@ pytestmark = pytest.mark.skipif(
 
 def test_the_committed_studies_are_all_here() -> None:
     studies = {arm.relative_to(RESULTS).parts[0] for arm in ARMS}
-    assert {"table4", "table5", "strategies", "multi-objective", "retarget", "bump-floors"} <= studies
+    assert {
+        "table4",
+        "table5",
+        "strategies",
+        "multi-objective",
+        "retarget",
+        "bump-floors",
+        "balance-margins",
+    } <= studies
 
 
 def _records_agree(directory: RunDirectory, runs: range) -> None:
