@@ -84,7 +84,7 @@ def main() -> None:
     generation = pipeline.config.generations
     settings = dict(pipeline.config.backend_settings)
     kept = pipeline.motion(mapped, generation)
-    _turf(settings, kept)
+    turf_table(settings, kept)
     print()
     evaluator = pipeline.load_evaluator()
     verdict = pipeline.spec.verdict
@@ -113,7 +113,7 @@ def main() -> None:
         )
 
 
-def _turf(settings: dict[str, object], batch: MotionBatch) -> None:
+def turf_table(settings: dict[str, object], batch: MotionBatch) -> None:
     horse = HorseSettings.from_mapping(settings)
     rows = np.arange(len(batch))
     print(f"GE-hybrid's {len(batch)} best gaits cycle by cycle (medians over gaits; first / last 5 cycles)")

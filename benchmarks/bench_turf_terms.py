@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.bench_speed_feedback import ARM, FLOORS, PLACED, _turf
+from benchmarks.bench_speed_feedback import ARM, FLOORS, PLACED, turf_table
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
 from gaitgram.backends.mujoco_horse.measures import HOOVES, measure_cycles
 from gaitgram.backends.mujoco_horse.model import bumpy_model
@@ -61,7 +61,7 @@ def main(argv: list[str] | None = None) -> None:
     print(f"the best gaits of {arm}")
     _footfalls(horse, batches[1.0])
     print()
-    _turf(settings, batches[1.0])
+    turf_table(settings, batches[1.0])
     print()
     print(
         f"GE-hybrid's {len(genomes)} best gaits on the trial's {len(BUMP_SEEDS)} bump floors: "
