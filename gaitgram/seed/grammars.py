@@ -37,6 +37,7 @@ class Style(StrEnum):
     HYBRID_FEEDBACK = "hybrid-feedback"
     HYBRID_RESET = "hybrid-reset"
     HYBRID_PACE = "hybrid-pace"
+    HYBRID_STRIDE = "hybrid-stride"
 
 
 SUMMARIES = {
@@ -52,6 +53,8 @@ SUMMARIES = {
     "restarted when its hoof lands",
     Style.HYBRID_PACE: "the feedback grammar with speed feedback: the trunk's pace scales the hip's and "
     "shoulder's swing",
+    Style.HYBRID_STRIDE: "the hybrid grammar with speed feedback alone: the trunk's pace scales the hip's "
+    "and shoulder's swing, no pitch or load terms",
 }
 
 #: The curves a closed loop corrects (docs/motion.md, "Closed loops"): the hip and shoulder swing
@@ -364,13 +367,15 @@ def _concatenating(
     return _seed_plus_funcs(joints, catalogue, seeds, "seed", comment, freedom=freedom)
 
 
-def _hybrid(joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue) -> list[str]:
+def _hybrid(
+    joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue, *, pace: Collection[str] = ()
+) -> list[str]:
     comment = (
         "# The seed, each number free within 25 % of itself, or less where that would leave\n"
         "# the functions under half of the room the seed leaves within the limits."
     )
     seeds = {joint: _fitting_curve(fits[joint], _limits(joint, catalogue), keep=0.5) for joint in joints}
-    return _seed_plus_funcs(joints, catalogue, seeds, "num", comment)
+    return _seed_plus_funcs(joints, catalogue, seeds, "num", comment, pace=pace)
 
 
 def _hybrid_feedback(
@@ -473,6 +478,7 @@ _WRITERS: dict[Style, Callable[[list[str], Mapping[str, SineFit], JointCatalogue
     Style.HYBRID_PACE: lambda joints, fits, catalogue: _hybrid_feedback(
         joints, fits, catalogue, pace=PACE_JOINTS
     ),
+    Style.HYBRID_STRIDE: lambda joints, fits, catalogue: _hybrid(joints, fits, catalogue, pace=PACE_JOINTS),
 }
 
 

@@ -354,3 +354,30 @@ def test_the_pace_grammars_seed_is_the_feedback_seed_and_its_gain_reads_the_pace
     seed, zero, scaled = (e.as_record() for e in HorseEvaluator().evaluate(batch))
     assert zero == seed
     assert scaled["fitness"] != seed["fitness"]
+
+
+def test_the_stride_grammars_seed_is_the_hybrid_seed_and_its_gain_reads_the_pace() -> None:
+    """hybrid-stride.gg is hybrid.gg with only the pace's stride gain on the hip and shoulder: its
+    seed genome (gain 0) plays the hybrid's seed, now through the closed loop, whose controls
+    are summed in another order (equal to 1e-12, not to the bit); a gain changes the walk."""
+    from gaitgram.ge import compile_mapper
+    from gaitgram.language import load
+    from gaitgram.seed.grammars import seed_genome
+
+    grammars = Path(__file__).resolve().parents[2] / "grammars"
+    hybrid, stride = (load(grammars / f"{name}.gg") for name in ("hybrid", "hybrid-stride"))
+    gaits = [compile_mapper(hybrid).map_fast(seed_genome(hybrid)).joints]
+    for gain in (20, 40):  # the middle index, 20, is gain 0; index 40 is 1
+        gaits.append(compile_mapper(stride).map_fast(seed_genome(stride, {"stride_gain": gain})).joints)
+    for joint in ("hip_hind", "shoulder_fore"):
+        assert gaits[1][joint] == f"({gaits[0][joint]})*(1+0*(1-pace))"
+        assert gaits[2][joint] == f"({gaits[0][joint]})*(1+1*(1-pace))"
+    assert all(
+        gaits[1][joint] == gaits[0][joint] for joint in gaits[0] if joint not in ("hip_hind", "shoulder_fore")
+    )
+    assert "pitch" not in "".join(gaits[2].values())  # no pitch or load feedback
+    batch = motion_batch(gaits, CATALOGUE.names, sensors=HORSE_SENSORS, frequency=(0.6, 1.3))
+    seed, zero, scaled = (e.as_record() for e in HorseEvaluator().evaluate(batch))
+    assert zero["fitness"] == pytest.approx(seed["fitness"], rel=1e-12)
+    assert zero["components"]["measured_velocity"] == seed["components"]["measured_velocity"]
+    assert abs(scaled["fitness"] - seed["fitness"]) > 0.01
