@@ -27,10 +27,7 @@ from gaitgram.runlayout import CHECKPOINT, runs_in
 
 RESULTS = ROOT / "docs" / "results"
 #: Committed arms whose study was stopped before all its runs were made (their READMEs say so).
-STOPPED_PART_WAY: set[str] = {
-    "balance-stride/runs/arms/ge-hybrid-stride-margins",
-    "balance-margins-bumps/runs/arms/ge-hybrid-margins-bumps",
-}
+STOPPED_PART_WAY: set[str] = {"balance-stride/runs/arms/ge-hybrid-stride-margins"}
 ARMS = sorted(
     path.parent
     for path in RESULTS.rglob("manifest.json")
