@@ -150,3 +150,39 @@ def test_a_gait_that_fails_on_a_floor_is_not_played_on_the_floors_after_it() -> 
         standing = [g for g in standing if found[g].status.viable]
     assert scored.simulated_steps == steps
     scored.close()
+
+
+@pytest.mark.parametrize(
+    ("settings", "said"),
+    [
+        ({"bump_floors": [0], "bump_height": 0.2}, "in [0.005, 0.1] (0.04: 4 cm), not 0.2"),
+        ({"bump_floors": [0], "bump_height": 0.0}, "in [0.005, 0.1]"),
+        ({"bump_floors": [0], "bump_height": "4cm"}, "must be a number"),
+        ({"bump_height": 0.04}, "no bump_floors are set: add bump_floors = [0]"),
+        ({"bump_hieght": 0.04}, "did you mean bump_height?"),
+    ],
+)
+def test_bad_bump_heights_are_refused_naming_the_setting(settings: dict[str, object], said: str) -> None:
+    with pytest.raises(SettingsError, match="bump_h") as refused:
+        HorseSettings.from_mapping(settings)
+    assert said in str(refused.value)
+
+
+def test_a_bump_height_sizes_the_scored_floors_and_the_default_is_the_trial_s_2_cm() -> None:
+    """``bump_height`` plays the bump floors' same draw taller; left out (or 2 cm), a run keeps the
+    fingerprint and every score of the runs made before it."""
+    assert "bump_height" not in check_settings({"bump_floors": [0]})
+    assert check_settings({"bump_floors": [0], "bump_height": 0.04})["bump_height"] == 0.04
+    assert "bump_height" in BACKEND.scoring_settings  # reports refuse to mix heights unasked
+    batch = load_seed().motion_batch()
+    (before,) = HorseEvaluator(HorseSettings(bump_floors=(0,))).evaluate(batch)
+    (two,) = HorseEvaluator(HorseSettings(bump_floors=(0,), bump_height=0.02)).evaluate(batch)
+    assert two.as_record() == before.as_record()
+    tall = HorseEvaluator(HorseSettings(bump_floors=(0,), bump_height=0.04))
+    (four,) = tall.evaluate(batch)
+    (apart,) = HorseEvaluator(HorseSettings(), model=bumpy_model(None, 0, height=0.04)).evaluate(batch)
+    assert four.components["bumps_fitness"] == apart.fitness != before.components["bumps_fitness"]
+    assert {k: v for k, v in four.components.items() if k != "bumps_fitness"} == {
+        k: v for k, v in before.components.items() if k != "bumps_fitness"
+    }  # judged on the flat floor as before
+    tall.close()

@@ -65,6 +65,7 @@ from gaitgram.backends.mujoco_horse.measures import (
     window,
 )
 from gaitgram.backends.mujoco_horse.model import (
+    BUMP_HEIGHT,
     LIMBS,
     STATE_SPEC,
     HorseLayout,
@@ -238,10 +239,12 @@ class HorseEvaluator:
             (
                 seed,
                 HorseEvaluator(
-                    replace(self.settings, bump_floors=None),
+                    replace(self.settings, bump_floors=None, bump_height=None),
                     chunk_steps=self.chunk_steps,
                     group_size=self.group_size,
-                    model=copy.copy(bumpy_model(self.settings.body, seed)),
+                    model=copy.copy(
+                        bumpy_model(self.settings.body, seed, height=self.settings.bump_height or BUMP_HEIGHT)
+                    ),
                 ),
             )
             for seed in self.settings.bump_floors or ()

@@ -40,6 +40,9 @@ TEST_FLOORS: tuple[int, ...] = tuple(range(26, 36))
 MAX_BUMP_FLOORS = 10
 #: The largest ``speed_margin``: the walk criterion allows 10 % either side of the target speed.
 MAX_SPEED_MARGIN = 0.1
+#: The range of ``bump_height`` (m): from bumps finer than a hoof's sole is thick to the height of
+#: a fetlock, past which no walk on a 500 kg horse is to be had.
+BUMP_HEIGHTS = (0.005, 0.1)
 
 
 #: Unscored time after the ramp, rounded up to whole cycles of the gait: from rest, the horse
@@ -76,6 +79,10 @@ class HorseSettings:
     #: terms; the walk criterion keeps the target. None: no margin, not spelt out (runs made
     #: before it keep their fingerprints). docs/fitness.md, "Margins".
     speed_margin: float | None = None
+    #: The full height (m) of the bumps on the ``bump_floors``: the robustness trial's turf is 2 cm
+    #: (``model.BUMP_HEIGHT``), its graded rungs 4 and 6 cm. None: 2 cm, not spelt out (runs made
+    #: before it keep their fingerprints). docs/fitness.md, "Scoring on bumps".
+    bump_height: float | None = None
 
     def __post_init__(self) -> None:
         _check(self)
@@ -95,12 +102,13 @@ class HorseSettings:
             "frequencies_of",
             "bump_floors",
             "speed_margin",
+            "bump_height",
         )
         for key in settings:
             if key not in known:
                 raise SettingsError(str(key), f"unknown mujoco-horse setting{_suggest(str(key), known)}")
         values: dict[str, Any] = {}
-        for key in ("froude", "ramp_seconds", "warmup_seconds", "speed_margin"):
+        for key in ("froude", "ramp_seconds", "warmup_seconds", "speed_margin", "bump_height"):
             if key in settings:
                 values[key] = _number(key, settings[key])
         for key in ("cycles", "horizon_cycles", "threads"):
@@ -186,6 +194,20 @@ def _check(s: HorseSettings) -> None:
             f"must be a share of the target speed in [0, {MAX_SPEED_MARGIN}] (0.04: aim 4 % faster), "
             f"not {s.speed_margin}",
         )
+    if s.bump_height is not None:
+        low, high = BUMP_HEIGHTS
+        if not low <= s.bump_height <= high:
+            raise SettingsError(
+                "bump_height",
+                f"must be the bumps' full height in metres in [{low}, {high}] (0.04: 4 cm), "
+                f"not {s.bump_height}",
+            )
+        if not s.bump_floors:
+            raise SettingsError(
+                "bump_height",
+                "sizes the bumps of the bump_floors, and no bump_floors are set: add bump_floors = [0] "
+                "(or more seeds), or leave bump_height out",
+            )
     if not 0 <= s.ramp_seconds <= 10:
         raise SettingsError("ramp_seconds", f"must be in [0, 10] seconds, not {s.ramp_seconds}")
     if not 0 <= s.warmup_seconds <= 10:
