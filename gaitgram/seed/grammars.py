@@ -38,6 +38,7 @@ class Style(StrEnum):
     HYBRID_RESET = "hybrid-reset"
     HYBRID_PACE = "hybrid-pace"
     HYBRID_STRIDE = "hybrid-stride"
+    HYBRID_CYCLE_STRIDE = "hybrid-cycle-stride"
 
 
 SUMMARIES = {
@@ -55,6 +56,8 @@ SUMMARIES = {
     "shoulder's swing",
     Style.HYBRID_STRIDE: "the hybrid grammar with speed feedback alone: the trunk's pace scales the hip's "
     "and shoulder's swing, no pitch or load terms",
+    Style.HYBRID_CYCLE_STRIDE: "the stride grammar reading the pace averaged over the cycle: the hip's and "
+    "shoulder's swing scaled from stride to stride, not within each stride",
 }
 
 #: The curves a closed loop corrects (docs/motion.md, "Closed loops"): the hip and shoulder swing
@@ -81,6 +84,9 @@ PACE_RULES = (
     "<pace_stride> ::= *(1+<stride_gain>*(1-pace))",
     "<stride_gain> ::= float[-1..1 step 0.05]",
 )
+#: The pace sensors speed feedback may read: the instantaneous ``pace`` surges and brakes within
+#: every stride, ``cycle_pace`` (its average over about a cycle) moves from stride to stride.
+PACE_SENSORS = ("pace", "cycle_pace")
 #: Where in its own cycle (``t``) each limb group's hoof lands when the seed is played on the
 #: horse: a limb's oscillator ``phase`` restarts at 0 there, so the reset grammar plays its seed
 #: curves at ``t = phase + this``. Measured by ``tests/seed/test_seed.py`` (the seed's landings,
@@ -320,11 +326,12 @@ def _seed_plus_funcs(
     feedback: Collection[str] = (),
     phased: Collection[str] = (),
     pace: Collection[str] = (),
+    pace_sensor: str = "pace",
 ) -> list[str]:
     """Fig. 2's shape: each curve is its seed rule, optionally plus concatenated functions
     (``seed_rules`` gives each seed's text and the angles it can reach); ``feedback`` joints add
     the closed loop's corrections, ``phased`` joints play their functions at the limb's phase,
-    ``pace`` joints scale their curve by the speed feedback."""
+    ``pace`` joints scale their curve by the speed feedback, which reads ``pace_sensor``."""
     lines = []
     for joint in joints:
         rule = f"<{prefix}_{joint}>"
@@ -347,10 +354,18 @@ def _seed_plus_funcs(
             "",
         ]
     if pace:
+        assert pace_sensor in PACE_SENSORS
+        averaged = (
+            ["# The pace is averaged over about the last cycle (cycle_pace): it acts stride to stride."]
+            if pace_sensor == "cycle_pace"
+            else []
+        )
         lines += [
             "# Speed feedback: the trunk's pace (its speed as a share of the target) scales the hip's",
             "# and shoulder's swing, a longer stride when slow; the gain's range is centred on 0, none.",
-            *PACE_RULES,
+            *averaged,
+            PACE_RULES[0].replace("-pace)", f"-{pace_sensor})"),
+            *PACE_RULES[1:],
             "",
         ]
     lines += _funcs_rules(phased=bool(phased))
@@ -368,14 +383,19 @@ def _concatenating(
 
 
 def _hybrid(
-    joints: list[str], fits: Mapping[str, SineFit], catalogue: JointCatalogue, *, pace: Collection[str] = ()
+    joints: list[str],
+    fits: Mapping[str, SineFit],
+    catalogue: JointCatalogue,
+    *,
+    pace: Collection[str] = (),
+    pace_sensor: str = "pace",
 ) -> list[str]:
     comment = (
         "# The seed, each number free within 25 % of itself, or less where that would leave\n"
         "# the functions under half of the room the seed leaves within the limits."
     )
     seeds = {joint: _fitting_curve(fits[joint], _limits(joint, catalogue), keep=0.5) for joint in joints}
-    return _seed_plus_funcs(joints, catalogue, seeds, "num", comment, pace=pace)
+    return _seed_plus_funcs(joints, catalogue, seeds, "num", comment, pace=pace, pace_sensor=pace_sensor)
 
 
 def _hybrid_feedback(
@@ -479,6 +499,9 @@ _WRITERS: dict[Style, Callable[[list[str], Mapping[str, SineFit], JointCatalogue
         joints, fits, catalogue, pace=PACE_JOINTS
     ),
     Style.HYBRID_STRIDE: lambda joints, fits, catalogue: _hybrid(joints, fits, catalogue, pace=PACE_JOINTS),
+    Style.HYBRID_CYCLE_STRIDE: lambda joints, fits, catalogue: _hybrid(
+        joints, fits, catalogue, pace=PACE_JOINTS, pace_sensor="cycle_pace"
+    ),
 }
 
 

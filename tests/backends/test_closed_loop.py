@@ -108,6 +108,43 @@ def test_pace_is_the_speed_as_a_share_of_the_walkers_target() -> None:
         Sensing(model, _slab_sensors(), {"pace"}, limbs=("only",), facts={"standing_height": 0.6})
 
 
+def test_cycle_pace_is_the_pace_averaged_tick_by_tick_over_each_gait_s_own_cycle() -> None:
+    """An exponential average from the nominal 1, its time constant one cycle of the gait: after
+    n ticks at a steady pace p, p + (1 - p) exp(-n tick f); a tick's second part (cut by a chunk's
+    end) does not move it; only the gaits read are updated, each at its own frequency."""
+    model = mujoco.MjModel.from_xml_string(SLAB)
+    data = mujoco.MjData(model)
+    data.qvel[:] = [0.4, 0.0, 0.0]
+    mujoco.mj_forward(model, data)
+    facts = {"standing_height": 0.6, "quarter_weight": 50 * 9.81 / 4, "target_speed": 0.5}
+    by_name = {sensor.name: sensor for sensor in SENSORS}
+    catalogue = SensorCatalogue((by_name["pace"], by_name["cycle_pace"]))
+    tick = 0.01
+    sensing = Sensing(
+        model, catalogue, {"pace", "cycle_pace"}, limbs=("only",), facts=facts, gaits=3, tick_seconds=tick
+    )
+    state, sensed = _record(model, data)
+    frequencies = np.array([0.5, 1.0, 2.0])
+    for _ in range(50):
+        readings = sensing.read(np.repeat(state, 3, 0), np.repeat(sensed, 3, 0), frequencies=frequencies)
+    assert readings["pace"] == pytest.approx([0.8] * 3, abs=1e-12)  # raw: 0.4 m/s against 0.5
+    expected = 0.8 + 0.2 * np.exp(-50 * tick * frequencies)
+    assert readings["cycle_pace"] == pytest.approx(expected, rel=1e-12)
+    held = sensing.read(np.repeat(state, 3, 0), np.repeat(sensed, 3, 0), frequencies=frequencies, tick=False)
+    assert np.array_equal(held["cycle_pace"], readings["cycle_pace"])
+    ids = np.array([2])  # the others dropped out
+    (later,) = sensing.read(state, sensed, ids=ids, frequencies=frequencies[ids])["cycle_pace"]
+    assert later == pytest.approx(0.8 + 0.2 * np.exp(-51 * tick * 2.0), rel=1e-12)
+    assert sensing.averages["cycle_pace"][:2] == pytest.approx(expected[:2], rel=1e-12)
+    with pytest.raises(ValueError, match="averaged over the cycle: give the frequencies"):
+        sensing.read(state, sensed, ids=ids)
+    bad = replace(
+        by_name["cycle_pace"], read=MappingProxyType({**by_name["cycle_pace"].read, "average_cycles": 0})
+    )
+    with pytest.raises(SensingError, match="average_cycles must be a number of cycles in"):
+        Sensing(model, SensorCatalogue((bad,)), {"cycle_pace"}, limbs=("only",), facts=facts)
+
+
 def test_the_horse_paces_at_one_when_it_walks_at_its_target_on_any_body() -> None:
     """``pace`` divides by the task's own target, which scales with the body (retargeting)."""
     for body in (None, "pony"):
@@ -356,28 +393,52 @@ def test_the_pace_grammars_seed_is_the_feedback_seed_and_its_gain_reads_the_pace
     assert scaled["fitness"] != seed["fitness"]
 
 
-def test_the_stride_grammars_seed_is_the_hybrid_seed_and_its_gain_reads_the_pace() -> None:
-    """hybrid-stride.gg is hybrid.gg with only the pace's stride gain on the hip and shoulder: its
-    seed genome (gain 0) plays the hybrid's seed, now through the closed loop, whose controls
-    are summed in another order (equal to 1e-12, not to the bit); a gain changes the walk."""
+def _stride_gaits(grammar: str, sensor: str) -> tuple[dict, dict, dict]:
+    """The records of the hybrid seed and of the stride grammar's seed genome at gain 0 and 1, its
+    hip and shoulder curves checked to be the hybrid's scaled by ``sensor``."""
     from gaitgram.ge import compile_mapper
     from gaitgram.language import load
     from gaitgram.seed.grammars import seed_genome
 
     grammars = Path(__file__).resolve().parents[2] / "grammars"
-    hybrid, stride = (load(grammars / f"{name}.gg") for name in ("hybrid", "hybrid-stride"))
+    hybrid, stride = (load(grammars / f"{name}.gg") for name in ("hybrid", grammar))
     gaits = [compile_mapper(hybrid).map_fast(seed_genome(hybrid)).joints]
     for gain in (20, 40):  # the middle index, 20, is gain 0; index 40 is 1
         gaits.append(compile_mapper(stride).map_fast(seed_genome(stride, {"stride_gain": gain})).joints)
     for joint in ("hip_hind", "shoulder_fore"):
-        assert gaits[1][joint] == f"({gaits[0][joint]})*(1+0*(1-pace))"
-        assert gaits[2][joint] == f"({gaits[0][joint]})*(1+1*(1-pace))"
+        assert gaits[1][joint] == f"({gaits[0][joint]})*(1+0*(1-{sensor}))"
+        assert gaits[2][joint] == f"({gaits[0][joint]})*(1+1*(1-{sensor}))"
     assert all(
         gaits[1][joint] == gaits[0][joint] for joint in gaits[0] if joint not in ("hip_hind", "shoulder_fore")
     )
-    assert not any(sensor in "".join(gaits[2].values()) for sensor in ("pitch", "load"))  # no such feedback
+    assert not any(name in "".join(gaits[2].values()) for name in ("pitch", "load"))  # no such feedback
     batch = motion_batch(gaits, CATALOGUE.names, sensors=HORSE_SENSORS, frequency=(0.6, 1.3))
     seed, zero, scaled = (e.as_record() for e in HorseEvaluator().evaluate(batch))
+    return seed, zero, scaled
+
+
+@pytest.mark.parametrize(
+    ("grammar", "sensor"), [("hybrid-stride", "pace"), ("hybrid-cycle-stride", "cycle_pace")]
+)
+def test_the_stride_grammars_seed_is_the_hybrid_seed_and_its_gain_reads_the_pace(
+    grammar: str, sensor: str
+) -> None:
+    """hybrid-stride.gg is hybrid.gg with only the pace's stride gain on the hip and shoulder (the
+    cycle-stride grammar's reads the pace averaged over the cycle): its seed genome (gain 0)
+    plays the hybrid's seed, now through the closed loop, whose controls are summed in another
+    order (equal to 1e-12, not to the bit); a gain changes the walk."""
+    seed, zero, scaled = _stride_gaits(grammar, sensor)
     assert zero["fitness"] == pytest.approx(seed["fitness"], rel=1e-12)
     assert zero["components"]["measured_velocity"] == seed["components"]["measured_velocity"]
-    assert abs(scaled["fitness"] - seed["fitness"]) > 0.01
+    assert scaled["fitness"] != pytest.approx(seed["fitness"], rel=1e-3)
+    assert scaled["components"]["measured_velocity"] != seed["components"]["measured_velocity"]
+
+
+def test_the_averaged_pace_plays_another_gait_than_the_instantaneous_one() -> None:
+    """The same gain on ``pace`` and on ``cycle_pace``: the instantaneous pace swings within each
+    stride, so it scales the swing far more than the average does at a steady pace near 1."""
+    seed, _, instantaneous = _stride_gaits("hybrid-stride", "pace")
+    *_, averaged = _stride_gaits("hybrid-cycle-stride", "cycle_pace")
+    assert (
+        abs(instantaneous["fitness"] - seed["fitness"]) > 10 * abs(averaged["fitness"] - seed["fitness"]) > 0
+    )

@@ -51,7 +51,9 @@ def _reference(evaluator: HorseEvaluator, batch: MotionBatch, gait: int, states,
             state, sensed = states[None, first - 1], sensors[None, first - 1]
         own = loop.frequencies if loop.own_frequencies else None
         values = evaluator.open_loop.values(loop.table, loop.samples, first, last, own)
-        readings = loop.sensing.read(state, sensed) if loop.sensing is not None else {}
+        readings = (
+            loop.sensing.read(state, sensed, frequencies=loop.frequencies) if loop.sensing is not None else {}
+        )
         clock = act.clock(first, last, loop.frequencies)
         phases = {"t": np.mod(clock, 1.0)}
         if loop.oscillators is not None:
@@ -79,8 +81,8 @@ def _reference(evaluator: HorseEvaluator, batch: MotionBatch, gait: int, states,
 
 def _seed_loops() -> MotionBatch:
     """The seed's curves with loops of several shapes, one curve's differing from gait to gait
-    (sensors alone, sensors on a slot, a slot of the oscillator's phase), played at the target's
-    frequency."""
+    (sensors alone, sensors on a slot, a slot of the oscillator's phase, an averaged sensor),
+    played at the target's frequency."""
     texts = {joint: fit.text for joint, fit in fit_seed(load_seed()).items()}
     gaits = []
     for k in range(6):
@@ -90,6 +92,8 @@ def _seed_loops() -> MotionBatch:
         gait["fetlock_hind"] = texts["fetlock_hind"].replace("*t", "*(phase+0.05)")
         if k % 2:
             gait["shoulder_fore"] = f"{k}*pitch"
+        else:  # the pace averaged tick by tick: a tick cut by a chunk's end must not move it twice
+            gait["shoulder_fore"] = f"({texts['shoulder_fore']})*(1+{0.2 * k}*(1-cycle_pace))"
         gaits.append(gait)
     return motion_batch(gaits, CATALOGUE.names, sensors=HORSE_SENSORS)
 

@@ -72,7 +72,17 @@ async def test_a_closed_loop_grammar_in_the_editor(client: Client) -> None:
     )
     assert isinstance(result, types.CompletionList)
     sensors = {i.label: i for i in result.items if i.kind == types.CompletionItemKind.Variable}
-    assert set(sensors) == {"pitch", "pitch_rate", "height", "speed", "pace", "load", "contact", "phase"}
+    assert set(sensors) == {
+        "pitch",
+        "pitch_rate",
+        "height",
+        "speed",
+        "pace",
+        "cycle_pace",
+        "load",
+        "contact",
+        "phase",
+    }
     assert sensors["speed"].detail == "m/s"
     assert sensors["speed"].text_edit is not None
     assert sensors["speed"].text_edit.range == types.Range(start=at(3, len(typed) - 2), end=at(3, len(typed)))

@@ -526,7 +526,17 @@ class ClosedLoop:
             block = self._block = self._ahead(ids, first)
         steps = slice(first - block.first, last - block.first)
         values = block.values[:, steps].copy()  # C order: its flat view takes the loops' results
-        readings = self.sensing.read(state, sensordata) if self.sensing is not None else {}
+        readings = (
+            self.sensing.read(
+                state,
+                sensordata,
+                ids=self._rows,
+                frequencies=self._ids_frequencies,
+                tick=first % self.tick == 0,
+            )
+            if self.sensing is not None
+            else {}
+        )
         # The phase columns' sample positions as this tick's landings left them, per slot length.
         positions: dict[int, tuple[NDArray[np.intp], NDArray[np.float64]]] = {}
         if block.phase_clock is not None:

@@ -13,12 +13,18 @@ module knows no horse:
   or as 0/1 ``above`` a force;
 * ``oscillator``: the limb's phase, which the controller keeps (:mod:`.control`); here only the
   touchdown it resets at is read (a ``touch`` ``above`` a force).
+
+Any kind but the oscillator may be averaged over the gait's own cycle (``average_cycles = k``):
+an exponential average, updated at each control tick, whose time constant is k cycles of the
+gait, starting from the sensor's nominal reading. A stride moves an instantaneous reading within
+the cycle (the trunk surges and brakes at every footfall); its average moves from stride to
+stride, which is what a gait's corrections of its own pace need.
 """
 
 from __future__ import annotations
 
 from collections.abc import Collection, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import mujoco
 import numpy as np
@@ -64,12 +70,17 @@ class _Reader:
     offset: float = 0.0
     above: float | None = None
     per_limb: bool = False
+    #: Cycles of the gait in the time constant of the reading's exponential average (None: raw).
+    average_cycles: float | None = None
+    nominal: float = 0.0
 
 
 class Sensing:
     """Reads ``names`` of ``catalogue`` from records of ``model``: body sensors as [gaits], per-limb
     ones as [gaits, limbs] (``limbs`` order). ``facts`` are the walker's numbers a ``read`` table
-    may name (``standing_height``, ``quarter_weight``, ``target_speed``)."""
+    may name (``standing_height``, ``quarter_weight``, ``target_speed``). Averaged readings
+    (``average_cycles``) are kept for ``gaits`` gaits between reads, updated every
+    ``tick_seconds``."""
 
     def __init__(
         self,
@@ -79,6 +90,8 @@ class Sensing:
         *,
         limbs: Sequence[str],
         facts: Mapping[str, float],
+        gaits: int = 1,
+        tick_seconds: float | None = None,
     ) -> None:
         self.limbs = tuple(limbs)
         self._readers = [
@@ -86,8 +99,26 @@ class Sensing:
             for sensor in catalogue
             if sensor.name in names and sensor.read.get("kind") != "oscillator"
         ]
+        self.tick_seconds = float(model.opt.timestep) if tick_seconds is None else tick_seconds
+        #: Each averaged reading per gait (and limb): what the last tick left.
+        self.averages = {
+            reader.name: np.full((gaits, len(self.limbs)) if reader.per_limb else gaits, reader.nominal)
+            for reader in self._readers
+            if reader.average_cycles is not None
+        }
 
     def _reader(self, model: mujoco.MjModel, sensor: Sensor, facts: Mapping[str, float]) -> _Reader:
+        reader = self._raw_reader(model, sensor, facts)
+        if "average_cycles" not in sensor.read:
+            return reader
+        cycles = sensor.read["average_cycles"]
+        if isinstance(cycles, bool) or not isinstance(cycles, int | float) or not 0 < cycles <= 100:
+            raise SensingError(
+                f"sensor {sensor.name}: average_cycles must be a number of cycles in (0, 100], not {cycles!r}"
+            )
+        return replace(reader, average_cycles=float(cycles), nominal=sensor.nominal)
+
+    def _raw_reader(self, model: mujoco.MjModel, sensor: Sensor, facts: Mapping[str, float]) -> _Reader:
         read = dict(sensor.read)
         kind = read.get("kind")
         try:
@@ -133,10 +164,38 @@ class Sensing:
         return int(model.sensor_adr[index])
 
     def read(
+        self,
+        state: NDArray[np.float64],
+        sensordata: NDArray[np.float64],
+        *,
+        ids: NDArray[np.intp] | slice = slice(None),
+        frequencies: NDArray[np.float64] | None = None,
+        tick: bool = True,
+    ) -> dict[str, NDArray[np.float64]]:
+        """The readings at one step of the gaits ``ids`` (of the ``gaits``; ``slice(None)``: all in
+        order): ``state`` [ids, nstate], ``sensordata`` [ids, nsensordata]. A ``tick`` (the first
+        read of a control tick) moves the averaged readings towards the raw ones by the share of
+        a time constant of ``frequencies[ids]``'s cycles that a tick lasts; a read that is not
+        (a tick's second part, cut by a chunk's end) gives them as the tick left them."""
+        readings = self._raw(state, sensordata)
+        for reader in self._readers:
+            if reader.average_cycles is None:
+                continue
+            kept = self.averages[reader.name]
+            if tick:
+                if frequencies is None:
+                    raise ValueError(f"sensor {reader.name} is averaged over the cycle: give the frequencies")
+                weight = -np.expm1(-self.tick_seconds * frequencies / reader.average_cycles)
+                before = kept[ids]
+                kept[ids] = before + (weight[:, None] if reader.per_limb else weight) * (
+                    readings[reader.name] - before
+                )
+            readings[reader.name] = kept[ids]
+        return readings
+
+    def _raw(
         self, state: NDArray[np.float64], sensordata: NDArray[np.float64]
     ) -> dict[str, NDArray[np.float64]]:
-        """The readings at one step of each gait: ``state`` [gaits, nstate], ``sensordata``
-        [gaits, nsensordata]."""
         readings: dict[str, NDArray[np.float64]] = {}
         for reader in self._readers:
             if reader.kind == "joint_velocity":

@@ -327,7 +327,18 @@ class HorseEvaluator:
             for g in rows
         ]
         read = frozenset().union(*(loop.sensors for row in loops for loop in row if loop is not None))
-        sensing = Sensing(self.model, SENSORS, read, limbs=LIMBS, facts=self._facts) if read else None
+        sensing = None
+        if read:
+            tick_seconds = self.tick * float(self.model.opt.timestep)
+            sensing = Sensing(
+                self.model,
+                SENSORS,
+                read,
+                limbs=LIMBS,
+                facts=self._facts,
+                gaits=len(rows),
+                tick_seconds=tick_seconds,
+            )
         oscillators = None
         if any("phase" in loop.variables for row in loops for loop in row if loop is not None):
             columns, above, airborne = touchdown_reader(self.model, SENSORS.get("phase"), LIMBS)  # type: ignore[arg-type]
