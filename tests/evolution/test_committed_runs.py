@@ -52,6 +52,7 @@ def test_the_committed_studies_are_all_here() -> None:
         "balance-margins-7",
         "balance-stride",
         "balance-margins-bumps",
+        "balance-margins-bumps-4cm",
     } <= studies
 
 
