@@ -70,7 +70,17 @@ def sensor_items(found: completion.Completions) -> dict[str, completion.Completi
 def test_completion_in_a_limb_curve_offers_every_sensor_with_its_unit() -> None:
     found = complete_after("<feedback> ::=", "+0.2*pi")
     sensors = sensor_items(found)
-    assert list(sensors) == ["pitch", "pitch_rate", "height", "speed", "pace", "cycle_pace", "load", "contact", "phase"]
+    assert list(sensors) == [
+        "pitch",
+        "pitch_rate",
+        "height",
+        "speed",
+        "pace",
+        "cycle_pace",
+        "load",
+        "contact",
+        "phase",
+    ]
     assert sensors["pitch_rate"].detail == "deg/s"
     assert sensors["load"].documentation is not None
     assert "hoof load" in sensors["load"].documentation
