@@ -16,9 +16,14 @@ from benchmarks._populations import generation_zero
 from gaitgram.backends.api import Evaluation, GaitStatus, SettingsError
 from gaitgram.backends.mujoco_horse import BACKEND, check_settings
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator, on_floors
-from gaitgram.backends.mujoco_horse.model import bumpy_model
+from gaitgram.backends.mujoco_horse.model import BUMP_HEIGHT, bumpy_model
 from gaitgram.backends.mujoco_horse.robustness import BUMP_SEEDS
-from gaitgram.backends.mujoco_horse.settings import MAX_BUMP_FLOORS, TEST_FLOORS, HorseSettings
+from gaitgram.backends.mujoco_horse.settings import (
+    DEFAULT_BUMP_HEIGHT,
+    MAX_BUMP_FLOORS,
+    TEST_FLOORS,
+    HorseSettings,
+)
 from gaitgram.cli import app
 from gaitgram.motion.gait import MotionBatch, motion_batch
 from gaitgram.seed import load_seed
@@ -172,6 +177,8 @@ def test_a_bump_height_sizes_the_scored_floors_and_the_default_is_the_trial_s_2_
     """``bump_height`` plays the bump floors' same draw taller; left out (or 2 cm), a run keeps the
     fingerprint and every score of the runs made before it."""
     assert "bump_height" not in check_settings({"bump_floors": [0]})
+    assert "bump_height" not in check_settings({"bump_floors": [0], "bump_height": 0.02})  # the default
+    assert DEFAULT_BUMP_HEIGHT == BUMP_HEIGHT
     assert check_settings({"bump_floors": [0], "bump_height": 0.04})["bump_height"] == 0.04
     assert "bump_height" in BACKEND.scoring_settings  # reports refuse to mix heights unasked
     batch = load_seed().motion_batch()

@@ -43,6 +43,9 @@ MAX_SPEED_MARGIN = 0.1
 #: The range of ``bump_height`` (m): from bumps finer than a hoof's sole is thick to the height of
 #: a fetlock, past which no walk on a 500 kg horse is to be had.
 BUMP_HEIGHTS = (0.005, 0.1)
+#: The bumps' height when ``bump_height`` is left out: the robustness trial's turf
+#: (``model.BUMP_HEIGHT``, not imported: this module does not import MuJoCo).
+DEFAULT_BUMP_HEIGHT = 0.02
 
 
 #: Unscored time after the ramp, rounded up to whole cycles of the gait: from rest, the horse
@@ -128,6 +131,8 @@ class HorseSettings:
             values["frequencies_of"] = settings["frequencies_of"]
         if "bump_floors" in settings:
             values["bump_floors"] = _floor_seeds(settings["bump_floors"])
+        if values.get("bump_height") == DEFAULT_BUMP_HEIGHT:  # the default spelt out: the same run
+            values["bump_height"] = None
         return cls(**values)
 
     @property
