@@ -81,6 +81,21 @@ class MotionBatch:
         """Whether any gait reads a sensor."""
         return self.loops is not None and any(any(loop is not None for loop in row) for row in self.loops)
 
+    def opened(self) -> MotionBatch:
+        """The same gaits with their feedback cut: every curve played open loop as its nominal
+        (each sensor held at its resting reading), the ablation that tells what a closed loop's
+        feedback adds to the curves it came with."""
+        return MotionBatch(
+            self.joints,
+            self.angles,
+            self.problems,
+            self.details,
+            self.frequencies,
+            None,
+            1.0,
+            self.phenotypes,
+        )
+
     def __len__(self) -> int:
         return self.angles.shape[0]
 

@@ -442,3 +442,28 @@ def test_the_averaged_pace_plays_another_gait_than_the_instantaneous_one() -> No
     assert (
         abs(instantaneous["fitness"] - seed["fitness"]) > 10 * abs(averaged["fitness"] - seed["fitness"]) > 0
     )
+
+
+def test_a_closed_loop_opened_is_its_curves_with_every_sensor_at_rest_played_open_loop() -> None:
+    """``MotionBatch.opened`` (the ablation that cuts a closed loop's feedback) plays each curve as
+    its nominal: the same controls and states, to the bit, as the phenotype with each sensor written
+    as its resting reading (``cycle_pace`` as 1, ``pitch`` as 0), and another gait than the loop's."""
+    texts = _seed_texts()
+    sensed = dict(texts)
+    sensed["hip_hind"] = f"({texts['hip_hind']})*(1+0.8*(1-cycle_pace))+2*pitch"
+    at_rest = dict(texts)
+    at_rest["hip_hind"] = f"({texts['hip_hind']})*(1+0.8*(1-1))+2*0"
+    closed = motion_batch([sensed], CATALOGUE.names, sensors=HORSE_SENSORS)
+    opened = closed.opened()
+    assert closed.closed_loop and not opened.closed_loop
+    written = motion_batch([at_rest], CATALOGUE.names, sensors=HORSE_SENSORS)
+    evaluator = HorseEvaluator()
+    rows = np.arange(1)
+    played = {
+        name: evaluator.play(batch, rows, cycles=2)
+        for name, batch in (("opened", opened), ("written", written), ("closed", closed))
+    }
+    evaluator.close()
+    for kept in range(3):  # states, sensors, controls
+        assert np.array_equal(played["opened"][kept], played["written"][kept])
+    assert not np.array_equal(played["opened"][2], played["closed"][2])
