@@ -455,7 +455,8 @@ def test_a_closed_loop_opened_is_its_curves_with_every_sensor_at_rest_played_ope
     at_rest["hip_hind"] = f"({texts['hip_hind']})*(1+0.8*(1-1))+2*0"
     closed = motion_batch([sensed], CATALOGUE.names, sensors=HORSE_SENSORS)
     opened = closed.opened()
-    assert closed.closed_loop and not opened.closed_loop
+    assert closed.closed_loop
+    assert not opened.closed_loop
     written = motion_batch([at_rest], CATALOGUE.names, sensors=HORSE_SENSORS)
     evaluator = HorseEvaluator()
     rows = np.arange(1)
