@@ -17,7 +17,7 @@ their mean, slowest and fastest cycle, and the share of plays whose every cycle 
     python -m benchmarks feedback_ablation [--arm DIR] [--runs N]
 
 Default arm: docs/results/balance-cycle-stride/runs/arms/ge-hybrid-cycle-stride-4cm. Not a speed
-benchmark: a reproducible measurement (docs/results/balance-cycle-stride/README.md). About 25
+benchmark: a reproducible measurement (docs/results/balance-cycle-stride/README.md). About 9
 minutes for 30 gaits on 2 cores.
 """
 

@@ -53,6 +53,7 @@ def test_the_committed_studies_are_all_here() -> None:
         "balance-stride",
         "balance-margins-bumps",
         "balance-margins-bumps-4cm",
+        "balance-cycle-stride",
     } <= studies
 
 
