@@ -32,15 +32,7 @@ from scipy.stats import binomtest
 from gaitgram.backends.mujoco_horse.evaluator import HorseEvaluator
 from gaitgram.backends.mujoco_horse.measures import measure_cycles
 from gaitgram.backends.mujoco_horse.model import BUMP_HEIGHT, bumpy_model
-from gaitgram.backends.mujoco_horse.robustness import (
-    BUMP_SEEDS,
-    RECOVERY_CYCLES,
-    Rung,
-    _on_every_floor,
-    _played,
-    _sloped,
-    disturbed,
-)
+from gaitgram.backends.mujoco_horse.robustness import BUMP_SEEDS, RECOVERY_CYCLES, Rung, disturbed, on_rung
 from gaitgram.backends.mujoco_horse.settings import HorseSettings
 from gaitgram.evolution.rundir import RunDirectory
 from gaitgram.motion.gait import MotionBatch
@@ -59,12 +51,8 @@ def outcomes(settings: dict[str, object], batch: MotionBatch) -> dict[str, list[
         evaluator.close()
     walk = [int(e.status.viable and e.components.get("walk") == 1.0) for e in flat]
     trial = {name: disturbed(settings, batch, name) for name in ("push-forward", "push-backward", "bumps")}
-    tall = [
-        _played(horse, batch, "bumps-4", bumpy_model(horse.body, seed, 1.0, 2 * BUMP_HEIGHT), None)
-        for seed in BUMP_SEEDS
-    ]
-    four = [_on_every_floor("bumps-4", [floor[g] for floor in tall]) for g in range(len(batch))]
-    down = _sloped(horse, batch, Rung("slope-down", 3, "deg"), None)
+    four = on_rung(settings, batch, Rung("bumps", 4, "cm"))
+    down = on_rung(settings, batch, Rung("slope-down", 3, "deg"))
     n = len(batch)
     return {
         "walk": walk,

@@ -269,26 +269,37 @@ def graded(
     """Per gait of ``batch``, its trial on each rung of :data:`GRADES` (``Trial.disturbance`` the
     rung's name; ``floors`` the plays, ``held`` how many it held). ``known`` gives rungs already
     played (the trial's own bumps, as ``disturbed`` gave them), by rung name."""
-    horse = HorseSettings.from_mapping(settings)
     found: dict[str, list[Trial]] = {}
     for rung in GRADES:
         if known is not None and rung.name in known:
             found[rung.name] = [replace_name(t, rung.name) for t in known[rung.name]]
-        elif rung.family == "bumps":
-            height = BUMP_HEIGHT * rung.size / 2
-            floors = [
-                _played(horse, batch, rung.name, bumpy_model(horse.body, seed, 1.0, height), weights)
-                for seed in BUMP_SEEDS
-            ]
-            found[rung.name] = [
-                replace_name(_on_every_floor(rung.name, [floor[g] for floor in floors]), rung.name)
-                for g in range(len(batch))
-            ]
-        elif rung.family.startswith("push"):
-            found[rung.name] = _pushed(horse, batch, rung, weights)
         else:
-            found[rung.name] = _sloped(horse, batch, rung, weights)
+            found[rung.name] = on_rung(settings, batch, rung, weights)
     return [[found[rung.name][g] for rung in GRADES] for g in range(len(batch))]
+
+
+def on_rung(
+    settings: Mapping[str, object],
+    batch: MotionBatch,
+    rung: Rung,
+    weights: Mapping[str, float] | None = None,
+) -> list[Trial]:
+    """Every gait of ``batch`` on one rung (of :data:`GRADES`, or any size of its families): its
+    floors, phases or slope, as :func:`graded` plays them."""
+    horse = HorseSettings.from_mapping(settings)
+    if rung.family == "bumps":
+        height = BUMP_HEIGHT * rung.size / 2
+        floors = [
+            _played(horse, batch, rung.name, bumpy_model(horse.body, seed, 1.0, height), weights)
+            for seed in BUMP_SEEDS
+        ]
+        return [
+            replace_name(_on_every_floor(rung.name, [floor[g] for floor in floors]), rung.name)
+            for g in range(len(batch))
+        ]
+    if rung.family.startswith("push"):
+        return _pushed(horse, batch, rung, weights)
+    return _sloped(horse, batch, rung, weights)
 
 
 def replace_name(trial: Trial, name: str) -> Trial:
