@@ -34,7 +34,7 @@ from gaitgram.backends.mujoco_horse.measures import measure_cycles
 from gaitgram.backends.mujoco_horse.model import BUMP_HEIGHT, bumpy_model
 from gaitgram.backends.mujoco_horse.robustness import BUMP_SEEDS, RECOVERY_CYCLES, Rung, disturbed, on_rung
 from gaitgram.backends.mujoco_horse.settings import HorseSettings
-from gaitgram.evolution.rundir import RunDirectory
+from gaitgram.evolution.rundir import RunDirectory, RunDirectoryError
 from gaitgram.motion.gait import MotionBatch
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -93,7 +93,10 @@ def last_cycle_speeds(settings: dict[str, object], batch: MotionBatch) -> np.nda
 
 def main(argv: list[str] | None = None) -> None:
     arm = Path(argv[argv.index("--arm") + 1]) if argv and "--arm" in argv else ARM
-    pipeline = RunDirectory.open(arm).pipeline
+    try:
+        pipeline = RunDirectory.open(arm).pipeline
+    except RunDirectoryError as error:
+        raise SystemExit(f"--arm: {error}") from None
     runs = sorted(arm.glob("run-*/best.json"))
     if argv and "--runs" in argv:
         runs = runs[: int(argv[argv.index("--runs") + 1])]
