@@ -99,7 +99,10 @@ def main(argv: list[str] | None = None) -> None:
         raise SystemExit(f"--arm: {error}") from None
     runs = sorted(arm.glob("run-*/best.json"))
     if argv and "--runs" in argv:
-        runs = runs[: int(argv[argv.index("--runs") + 1])]
+        given = argv[argv.index("--runs") + 1 :][:1]
+        if not given or not given[0].isdigit() or int(given[0]) < 1:
+            raise SystemExit(f"--runs takes a whole number of runs, at least 1, not {' '.join(given)!r}")
+        runs = runs[: int(given[0])]
     mapped = pipeline.map([tuple(json.loads(path.read_text())["genome"]) for path in runs])
     generation = pipeline.config.generations
     evolved = pipeline.motion(mapped, generation)
